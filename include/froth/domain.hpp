@@ -1,0 +1,48 @@
+// The domain to mesh. This foundation handles convex domains: the intersection of the inner
+// half-spaces of the boundary's distinct facet planes.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "froth/geometry.hpp"
+
+namespace froth {
+
+struct TriangleSurface {
+  std::vector<Vec3> vertices;                  // merged exactly (bit-equal coordinates)
+  std::vector<std::array<int32_t, 3>> triangles;
+};
+
+// Reads binary or ASCII STL (ASCII may hold several `solid` blocks). Throws Error.
+TriangleSurface read_stl(const std::filesystem::path& path);
+
+struct ConvexDomain {
+  std::string description;      // "box:..." or the file name
+  std::vector<Plane> planes;    // distinct facet planes, outward normals
+  Box bounds;
+  double volume = 0;
+  double surface_area = 0;
+
+  bool contains(Vec3 p) const {
+    for (const Plane& pl : planes)
+      if (pl.signed_distance(p) > 0) return false;
+    return true;
+  }
+};
+
+ConvexDomain make_box_domain(Vec3 lo, Vec3 hi);
+
+// Parses "box:X0,Y0,Z0,X1,Y1,Z1". Throws Error(Usage) when malformed.
+ConvexDomain parse_box_spec(const std::string& spec);
+
+// Validates that the surface is closed, consistently oriented and convex (exact predicates),
+// then returns its distinct facet planes. `name` is used in error messages.
+ConvexDomain convex_domain_from_surface(const TriangleSurface& surface, const std::string& name);
+
+// A box spec or a surface file, whichever `input` names.
+ConvexDomain load_domain(const std::string& input);
+
+}  // namespace froth

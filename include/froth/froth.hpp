@@ -1,0 +1,8 @@
+// froth: uniform random Voronoi meshes by maximal Poisson-disk sampling.
+#pragma once
+#include "froth/domain.hpp"
+#include "froth/error.hpp"
+#include "froth/geometry.hpp"
+#include "froth/io.hpp"
+#include "froth/mesh.hpp"
+#include "froth/validate.hpp"

@@ -1,0 +1,85 @@
+// The conforming polyhedral mesh froth produces, the options that make it and the run report.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "froth/domain.hpp"
+#include "froth/geometry.hpp"
+
+namespace froth {
+
+enum class CellKind : uint8_t { Interior = 0, Fringe = 1, Edge = 2, Vertex = 3 };
+
+// A face's generator: >= 0 is the seed on the other side (an interior face);
+// < 0 encodes domain plane p as -(p + 1) (a border face).
+inline bool is_border_generator(int32_t g) { return g < 0; }
+inline int32_t plane_generator(int32_t plane) { return -(plane + 1); }
+inline int32_t generator_plane(int32_t g) { return -g - 1; }
+
+// Cells, faces and points in compressed-row form. Cell c owns faces
+// [cell_face_begin[c], cell_face_begin[c+1]); face f has vertices
+// face_vertices[face_vertex_begin[f] .. face_vertex_begin[f+1]), counter-clockwise seen from
+// outside the cell. Shared vertices have one id: the mesh is conforming.
+struct PolyMesh {
+  std::vector<Vec3> points;
+  std::vector<Vec3> seeds;            // one per cell, cell c belongs to seeds[c]
+  std::vector<CellKind> kinds;
+  std::vector<double> volumes;
+  std::vector<int64_t> cell_face_begin{0};
+  std::vector<int32_t> face_generator;
+  std::vector<int64_t> face_vertex_begin{0};
+  std::vector<int32_t> face_vertices;
+
+  size_t cell_count() const { return seeds.size(); }
+  size_t face_count() const { return face_generator.size(); }
+};
+
+struct MeshOptions {
+  double r = 0;              // sampling radius
+  uint64_t seed = 0;         // random seed: the mesh is a pure function of (domain, r, seed)
+  double weld = 0;           // weld tolerance; this version does not weld (0 only)
+  int threads = 0;           // 0 = all cores; never changes the result
+  std::function<void(const std::string& stage)> progress;  // told when a stage starts
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct SamplingStats {
+  size_t seeds = 0;
+  size_t darts = 0;              // darts thrown in all rounds
+  size_t levels = 0;             // refinement levels used
+  size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
+  double base_cube_side = 0;
+  std::array<size_t, 3> grid{};  // base grid cubes per axis
+};
+
+struct RunReport {
+  std::string domain;
+  double r = 0;
+  uint64_t seed = 0;
+  double weld = 0;
+  int threads = 0;
+  SamplingStats sampling;
+  size_t cells = 0, interior_cells = 0, fringe_cells = 0;
+  size_t faces = 0, points = 0;
+  double domain_volume = 0, volume_sum = 0;
+  std::vector<StageTiming> stages;
+  double total_seconds = 0;
+  size_t peak_rss_bytes = 0;
+
+  double volume_relative_error() const {
+    return domain_volume > 0 ? std::abs(volume_sum - domain_volume) / domain_volume : 0;
+  }
+};
+
+// The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
+PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& options, RunReport* report);
+
+}  // namespace froth

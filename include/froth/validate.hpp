@@ -1,0 +1,23 @@
+// Structural checks of a finished mesh. generate_mesh runs them before returning, so froth
+// never hands back a mesh that fails them; the tests call them too.
+#pragma once
+#include <string>
+
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+struct MeshCheck {
+  size_t unmatched_faces = 0;     // interior faces without an identical twin in the neighbour
+  size_t open_cells = 0;          // cells whose faces do not close (an edge not used twice)
+  size_t nonpositive_cells = 0;   // cells with volume <= 0
+  std::string first_problem;      // description of the first defect found
+  bool ok() const { return unmatched_faces == 0 && open_cells == 0 && nonpositive_cells == 0; }
+};
+
+MeshCheck check_mesh(const PolyMesh& mesh);
+
+// Signed volume of cell c from the mesh's points (divergence theorem, faces fanned).
+double cell_volume(const PolyMesh& mesh, size_t c);
+
+}  // namespace froth

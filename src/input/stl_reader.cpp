@@ -1,0 +1,133 @@
+// STL reader: binary and ASCII (several `solid` blocks allowed). Vertices with bit-equal
+// coordinates are merged; nothing is snapped or repaired here.
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "froth/domain.hpp"
+#include "froth/error.hpp"
+
+namespace froth {
+namespace {
+
+struct BitKey {
+  uint64_t a, b, c;
+  bool operator==(const BitKey&) const = default;
+};
+struct BitKeyHash {
+  size_t operator()(const BitKey& k) const {
+    uint64_t h = k.a * 0x9E3779B97F4A7C15ull;
+    h ^= (k.b + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
+    h ^= (k.c + 0x85EBCA77C2B2AE63ull + (h << 6) + (h >> 2));
+    return h;
+  }
+};
+
+class VertexMerger {
+ public:
+  explicit VertexMerger(TriangleSurface& s) : s_(s) {}
+  int32_t add(Vec3 p) {
+    BitKey k{bits(p.x), bits(p.y), bits(p.z)};
+    auto [it, inserted] = ids_.try_emplace(k, static_cast<int32_t>(s_.vertices.size()));
+    if (inserted) s_.vertices.push_back(p);
+    return it->second;
+  }
+
+ private:
+  static uint64_t bits(double v) {
+    if (v == 0) v = 0;  // -0 and +0 are one coordinate
+    uint64_t u;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+  }
+  TriangleSurface& s_;
+  std::unordered_map<BitKey, int32_t, BitKeyHash> ids_;
+};
+
+void check_finite(const std::string& file, size_t tri, Vec3 p) {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+    fail(ErrorKind::InvalidInput,
+         fmt::format("{}: triangle {} has a non-finite coordinate ({}, {}, {})", file, tri, p.x, p.y, p.z));
+}
+
+TriangleSurface read_binary(const std::string& file, const std::string& bytes) {
+  uint32_t n;
+  std::memcpy(&n, bytes.data() + 80, 4);
+  TriangleSurface s;
+  VertexMerger merge(s);
+  s.triangles.reserve(n);
+  for (uint32_t t = 0; t < n; ++t) {
+    const char* rec = bytes.data() + 84 + size_t(t) * 50;
+    std::array<int32_t, 3> tri{};
+    for (int v = 0; v < 3; ++v) {
+      float xyz[3];
+      std::memcpy(xyz, rec + 12 + 12 * v, 12);
+      Vec3 p{xyz[0], xyz[1], xyz[2]};
+      check_finite(file, t, p);
+      tri[v] = merge.add(p);
+    }
+    s.triangles.push_back(tri);
+  }
+  return s;
+}
+
+TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
+  TriangleSurface s;
+  VertexMerger merge(s);
+  std::istringstream in(bytes);
+  std::string word;
+  std::array<int32_t, 3> tri{};
+  int corner = 0;
+  size_t line_facets = 0;
+  while (in >> word) {
+    if (word == "vertex") {
+      Vec3 p;
+      if (!(in >> p.x >> p.y >> p.z))
+        fail(ErrorKind::InvalidInput,
+             fmt::format("{}: facet {}: 'vertex' is not followed by three numbers", file, line_facets));
+      check_finite(file, line_facets, p);
+      if (corner == 3)
+        fail(ErrorKind::InvalidInput, fmt::format("{}: facet {} has more than 3 vertices", file, line_facets));
+      tri[corner++] = merge.add(p);
+    } else if (word == "endfacet") {
+      if (corner != 3)
+        fail(ErrorKind::InvalidInput,
+             fmt::format("{}: facet {} has {} vertices, expected 3", file, line_facets, corner));
+      s.triangles.push_back(tri);
+      corner = 0;
+      ++line_facets;
+    }
+  }
+  if (s.triangles.empty())
+    fail(ErrorKind::InvalidInput, fmt::format("{}: no facets found (not an STL file?)", file));
+  return s;
+}
+
+}  // namespace
+
+TriangleSurface read_stl(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) fail(ErrorKind::Io, fmt::format("{}: cannot open for reading", path.string()));
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::string file = path.string();
+  if (bytes.size() >= 84) {
+    uint32_t n;
+    std::memcpy(&n, bytes.data() + 80, 4);
+    if (bytes.size() == 84 + size_t(n) * 50) {
+      if (n == 0) fail(ErrorKind::InvalidInput, fmt::format("{}: binary STL with no triangles", file));
+      return read_binary(file, bytes);
+    }
+  }
+  size_t start = bytes.find_first_not_of(" \t\r\n");
+  if (start != std::string::npos && bytes.compare(start, 5, "solid") == 0) return read_ascii(file, bytes);
+  fail(ErrorKind::InvalidInput,
+       fmt::format("{}: neither binary STL (size {} does not match its triangle count) nor ASCII STL", file,
+                   bytes.size()));
+}
+
+}  // namespace froth

@@ -1,0 +1,12 @@
+// Outputs are written to a temporary name beside the target and renamed on success, so a
+// failed or interrupted run never leaves a half-written file under the real name.
+#pragma once
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+namespace froth {
+
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+}  // namespace froth

@@ -1,0 +1,43 @@
+// The run report as JSON (nlohmann-json).
+#include <nlohmann/json.hpp>
+
+#include "froth/io.hpp"
+#include "io/atomic_file.hpp"
+
+namespace froth {
+
+std::string report_json_text(const RunReport& run) {
+  nlohmann::ordered_json j;
+  j["froth_version"] = FROTH_VERSION;
+  j["input"] = {{"domain", run.domain}, {"r", run.r}, {"random_seed", run.seed}, {"weld", run.weld},
+                {"threads", run.threads}};
+  const auto& s = run.sampling;
+  j["sampling"] = {{"seeds", s.seeds},
+                   {"darts", s.darts},
+                   {"refinement_levels", s.levels},
+                   {"uncovered_cubes", s.uncovered_cubes},
+                   {"maximal", s.uncovered_cubes == 0},
+                   {"base_cube_side", s.base_cube_side},
+                   {"grid", s.grid}};
+  j["mesh"] = {{"cells", run.cells},
+               {"interior_cells", run.interior_cells},
+               {"fringe_cells", run.fringe_cells},
+               {"faces", run.faces},
+               {"points", run.points}};
+  j["volume"] = {{"domain", run.domain_volume},
+                 {"cells_sum", run.volume_sum},
+                 {"relative_error", run.volume_relative_error()}};
+  nlohmann::ordered_json stages = nlohmann::ordered_json::object();
+  for (const auto& st : run.stages) stages[st.stage] = st.seconds;
+  j["seconds"] = stages;
+  j["seconds_total"] = run.total_seconds;
+  j["peak_memory_bytes"] = run.peak_rss_bytes;
+  return j.dump(2) + "\n";
+}
+
+void write_report_json(const RunReport& run, const std::filesystem::path& path) {
+  std::string text = report_json_text(run);
+  write_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
+}  // namespace froth

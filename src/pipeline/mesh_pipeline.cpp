@@ -1,0 +1,112 @@
+// The pipeline of one mesh: sample, cut cells, assemble, check. Each stage reports its time
+// and counts into the RunReport.
+#include <omp.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "froth/error.hpp"
+#include "froth/mesh.hpp"
+#include "froth/validate.hpp"
+#include "sampling/mps.hpp"
+#include "voronoi/tessellation.hpp"
+
+namespace froth {
+namespace {
+
+size_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      size_t kib = 0;
+      status >> kib;
+      return kib * 1024;
+    }
+    status.ignore(1 << 20, '\n');
+  }
+  return 0;
+}
+
+class Stopwatch {
+ public:
+  double lap() {
+    auto now = std::chrono::steady_clock::now();
+    double s = std::chrono::duration<double>(now - t_).count();
+    t_ = now;
+    return s;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point t_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace
+
+PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunReport* report) {
+  if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
+  if (opt.weld != 0) fail(ErrorKind::Usage, "welding is not implemented yet: use --weld 0");
+  const double cubes = domain.bounds.size().x * domain.bounds.size().y * domain.bounds.size().z /
+                       std::pow(opt.r / std::sqrt(3.0), 3);
+  if (cubes > 2e9)
+    fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
+  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+
+  RunReport local;
+  RunReport& run = report ? *report : local;
+  run.domain = domain.description;
+  run.r = opt.r;
+  run.seed = opt.seed;
+  run.weld = opt.weld;
+  run.threads = omp_get_max_threads();
+  run.domain_volume = domain.volume;
+
+  auto progress = [&](const char* stage) {
+    if (opt.progress) opt.progress(stage);
+  };
+  Stopwatch total, watch;
+  progress("sampling");
+  Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
+  run.stages.push_back({"sampling", watch.lap()});
+  run.sampling = sample.stats;
+  if (sample.seeds.empty()) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", opt.r));
+  if (sample.stats.uncovered_cubes > 0)
+    fail(ErrorKind::Internal, fmt::format("sampling stopped at the finest level with {} uncovered cubes",
+                                          sample.stats.uncovered_cubes));
+
+  progress("cells");
+  TessellationTimes tt;
+  PolyMesh mesh = build_voronoi_mesh(domain, sample, opt.r, &tt);
+  run.stages.push_back({"cells", tt.cells});
+  run.stages.push_back({"assembly", tt.assembly});
+  watch.lap();
+
+  progress("validation");
+  mesh.volumes.resize(mesh.cell_count());
+#pragma omp parallel for schedule(static)
+  for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
+  MeshCheck check = check_mesh(mesh);
+  run.stages.push_back({"validation", watch.lap()});
+  if (!check.ok())
+    fail(ErrorKind::Internal, fmt::format("the mesh failed its checks ({} unmatched faces, {} open cells, {} "
+                                          "non-positive cells); first: {}",
+                                          check.unmatched_faces, check.open_cells, check.nonpositive_cells,
+                                          check.first_problem));
+
+  run.cells = mesh.cell_count();
+  run.faces = mesh.face_count();
+  run.points = mesh.points.size();
+  run.interior_cells = run.fringe_cells = 0;
+  for (CellKind k : mesh.kinds) (k == CellKind::Interior ? run.interior_cells : run.fringe_cells)++;
+  // Summed in cell order so the figure is the same for any thread count.
+  run.volume_sum = 0;
+  for (double v : mesh.volumes) run.volume_sum += v;
+  run.total_seconds = total.lap();
+  run.peak_rss_bytes = peak_rss_bytes();
+  return mesh;
+}
+
+}  // namespace froth

@@ -1,0 +1,90 @@
+// Structural checks of the finished mesh: closed cells, matched interior faces, positive volumes.
+#include "froth/validate.hpp"
+
+#include <algorithm>
+#include <mutex>
+
+#include <fmt/format.h>
+
+namespace froth {
+
+double cell_volume(const PolyMesh& m, size_t c) {
+  double v6 = 0;
+  const Vec3 o = m.seeds[c];  // any origin works; the seed keeps the numbers small
+  for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+    int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    Vec3 a = m.points[m.face_vertices[b]] - o;
+    for (int64_t k = b + 1; k + 1 < e; ++k)
+      v6 += dot(a, cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1]] - o));
+  }
+  return v6 / 6;
+}
+
+namespace {
+
+// Is face g (in the neighbour) face f run backwards?
+bool is_reversed_twin(const PolyMesh& m, int64_t f, int64_t g) {
+  int64_t fb = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - fb;
+  int64_t gb = m.face_vertex_begin[g];
+  if (m.face_vertex_begin[g + 1] - gb != n) return false;
+  int64_t start = -1;
+  for (int64_t k = 0; k < n; ++k)
+    if (m.face_vertices[gb + k] == m.face_vertices[fb]) start = k;
+  if (start < 0) return false;
+  for (int64_t k = 0; k < n; ++k)
+    if (m.face_vertices[fb + k] != m.face_vertices[gb + ((start - k) % n + n) % n]) return false;
+  return true;
+}
+
+}  // namespace
+
+MeshCheck check_mesh(const PolyMesh& m) {
+  MeshCheck out;
+  std::mutex mu;
+  size_t first_cell = m.cell_count();
+  size_t unmatched = 0, open = 0, nonpositive = 0;
+#pragma omp parallel
+  {
+    std::vector<std::pair<int32_t, int32_t>> edges;
+#pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive)
+    for (size_t c = 0; c < m.cell_count(); ++c) {
+      std::string problem;
+      edges.clear();
+      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+        int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+        for (int64_t k = b; k < e; ++k) edges.push_back({m.face_vertices[k], m.face_vertices[k + 1 < e ? k + 1 : b]});
+        int32_t g = m.face_generator[f];
+        if (g < 0) continue;
+        bool twin = false;
+        for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && !twin; ++h)
+          twin = m.face_generator[h] == int32_t(c) && is_reversed_twin(m, f, h);
+        if (!twin) {
+          ++unmatched;
+          if (problem.empty()) problem = fmt::format("cell {}: face toward cell {} has no identical twin there", c, g);
+        }
+      }
+      // Closed: every directed edge is matched by its reverse exactly once.
+      std::sort(edges.begin(), edges.end());
+      bool closed = std::adjacent_find(edges.begin(), edges.end()) == edges.end();
+      for (auto [a, b] : edges) closed = closed && std::binary_search(edges.begin(), edges.end(), std::pair{b, a});
+      if (!closed) {
+        ++open;
+        if (problem.empty()) problem = fmt::format("cell {}: faces do not close", c);
+      }
+      if (!(cell_volume(m, c) > 0)) {
+        ++nonpositive;
+        if (problem.empty()) problem = fmt::format("cell {}: volume is not positive", c);
+      }
+      if (!problem.empty()) {
+        std::lock_guard lock(mu);
+        if (c < first_cell) first_cell = c, out.first_problem = problem;
+      }
+    }
+  }
+  out.unmatched_faces = unmatched;
+  out.open_cells = open;
+  out.nonpositive_cells = nonpositive;
+  return out;
+}
+
+}  // namespace froth

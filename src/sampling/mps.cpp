@@ -1,0 +1,230 @@
+// Maximal Poisson-disk sampling on a background grid of cubes with diagonal r.
+//
+// Unbiasedness: the darts are a space-time Poisson process of constant intensity over the domain
+// (each round gives every active cube a Poisson number of darts with uniform positions and
+// uniform arrival times within the round), and a dart is accepted iff no earlier-accepted seed
+// lies within r. That is random sequential addition exactly, run to saturation; Ebeida et al.'s
+// refinement only drops sub-cubes that are already covered (where every dart would be rejected)
+// or outside the domain, which does not change the law of the accepted set. Within a round the
+// candidates are accepted greedily in arrival order, so the result does not depend on how the
+// work is split. Cubes cut by the boundary are sampled too (darts outside are rejected), so the
+// density does not sag next to the boundary.
+#include "sampling/mps.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/random.hpp"
+#include "common/tolerances.hpp"
+
+namespace froth {
+namespace {
+
+struct ActiveCube {
+  int64_t base;               // base cube index
+  uint32_t sx, sy, sz;        // sub-cube coordinates inside the base cube at the current level
+  uint32_t inside;            // 1 if the sub-cube lies entirely inside the domain
+};
+
+struct Candidate {
+  uint64_t time;
+  int64_t base;
+  Vec3 p;
+};
+
+// Expected darts per active cube per round, and rounds per refinement level. They tune speed
+// only: the law of the sample is the same for any choice.
+constexpr double kDartsPerCubePerRound = 1.0;
+constexpr int kRoundsLevel0 = 4;
+constexpr int kRoundsPerLevel = 1;
+constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
+
+int poisson(double u, double mean) {
+  double p = std::exp(-mean), cdf = p;
+  int k = 0;
+  while (u > cdf && k < 64) {
+    ++k;
+    p *= mean / k;
+    cdf += p;
+  }
+  return k;
+}
+
+class Sampler {
+ public:
+  Sampler(const ConvexDomain& domain, double r, uint64_t seed)
+      : domain_(domain), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
+    s_.grid = BackgroundGrid::covering(domain.bounds, r);
+    s_.cube_seed.assign(s_.grid.cube_count(), -1);
+    s_.stats.base_cube_side = s_.grid.side;
+    s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
+  }
+
+  Sample run() {
+    std::vector<ActiveCube> active = initial_cubes();
+    int level = 0;
+    while (!active.empty()) {
+      const int rounds = level == 0 ? kRoundsLevel0 : kRoundsPerLevel;
+      for (int q = 0; q < rounds && !active.empty(); ++q) throw_round(active, level, q);
+      if (level == tol::kMaxSamplingLevel) break;
+      active = refine(active, level);
+      ++level;
+    }
+    s_.stats.levels = size_t(level) + 1;
+    s_.stats.uncovered_cubes = active.size();
+    order_seeds_by_cube();
+    s_.stats.seeds = s_.seeds.size();
+    return std::move(s_);
+  }
+
+ private:
+  Vec3 base_origin(int64_t b) const {
+    const auto& g = s_.grid;
+    int64_t i = b % g.nx, j = (b / g.nx) % g.ny, k = b / (int64_t(g.nx) * g.ny);
+    return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
+  }
+
+  bool conflicts(Vec3 p) const {
+    bool hit = false;
+    s_.grid.for_cubes_near(p, r_, [&](int64_t c) {
+      int32_t q = s_.cube_seed[c];
+      if (q >= 0 && norm2(s_.seeds[q] - p) < r2_) hit = true;
+    });
+    return hit;
+  }
+
+  // -1 outside, 0 cut by the boundary, 1 inside.
+  int classify_box(Vec3 lo, double h) const {
+    bool inside = true;
+    for (const Plane& pl : domain_.planes) {
+      // Extreme corners of the box along the plane normal.
+      double dmin = pl.signed_distance(lo), dmax = dmin;
+      for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
+      if (dmin > 0) return -1;
+      if (dmax > 0) inside = false;
+    }
+    return inside ? 1 : 0;
+  }
+
+  std::vector<ActiveCube> initial_cubes() const {
+    std::vector<ActiveCube> cubes;
+    const auto& g = s_.grid;
+    for (int64_t b = 0; b < int64_t(g.cube_count()); ++b) {
+      int c = classify_box(base_origin(b), g.side);
+      if (c >= 0) cubes.push_back({b, 0, 0, 0, uint32_t(c)});
+    }
+    return cubes;
+  }
+
+  void throw_round(std::vector<ActiveCube>& active, int level, int round) {
+    const double h = std::ldexp(s_.grid.side, -level);
+    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<Candidate>> found(chunks);
+    size_t darts = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : darts)
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      size_t end = std::min(active.size(), (ch + 1) * kChunk);
+      for (size_t a = ch * kChunk; a < end; ++a) {
+        const ActiveCube& c = active[a];
+        if (s_.cube_seed[c.base] >= 0) continue;
+        const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
+        const uint64_t tag = (uint64_t(c.sz) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
+        int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]), kDartsPerCubePerRound);
+        darts += n;
+        Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz * h};
+        for (int k = 0; k < n; ++k) {
+          auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
+          Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
+          if (!c.inside && !domain_.contains(p)) continue;
+          if (conflicts(p)) continue;
+          found[ch].push_back({w[3], c.base, p});
+        }
+      }
+    }
+    s_.stats.darts += darts;
+    std::vector<Candidate> all;
+    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+    std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
+      return a.time != b.time ? a.time < b.time : a.base < b.base;
+    });
+    // Greedy in arrival order: a candidate survives unless an earlier one of this round took
+    // its cube or came within r.
+    for (const Candidate& c : all) {
+      if (s_.cube_seed[c.base] >= 0 || conflicts(c.p)) continue;
+      s_.cube_seed[c.base] = int32_t(s_.seeds.size());
+      s_.seeds.push_back(c.p);
+    }
+  }
+
+  // Splits every active cube into 8 and keeps the children not covered by one disk and not
+  // outside the domain.
+  std::vector<ActiveCube> refine(const std::vector<ActiveCube>& active, int level) {
+    const double h = std::ldexp(s_.grid.side, -(level + 1));
+    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<ActiveCube>> kept(chunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      std::vector<Vec3> near;
+      size_t end = std::min(active.size(), (ch + 1) * kChunk);
+      for (size_t a = ch * kChunk; a < end; ++a) {
+        const ActiveCube& c = active[a];
+        if (s_.cube_seed[c.base] >= 0) continue;  // its seed covers the whole base cube
+        Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz * 2 * h};
+        Vec3 center = lo + Vec3{h, h, h};
+        near.clear();
+        s_.grid.for_cubes_near(center, r_ + h * std::sqrt(3.0), [&](int64_t q) {
+          if (s_.cube_seed[q] >= 0) near.push_back(s_.seeds[s_.cube_seed[q]]);
+        });
+        for (uint32_t child = 0; child < 8; ++child) {
+          uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
+          Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
+          bool covered = false;
+          for (Vec3 q : near) {
+            // Farthest corner of the child from q within r: the whole child is covered.
+            double fx = std::max(std::abs(q.x - clo.x), std::abs(clo.x + h - q.x));
+            double fy = std::max(std::abs(q.y - clo.y), std::abs(clo.y + h - q.y));
+            double fz = std::max(std::abs(q.z - clo.z), std::abs(clo.z + h - q.z));
+            if (fx * fx + fy * fy + fz * fz <= r2_) { covered = true; break; }
+          }
+          if (covered) continue;
+          uint32_t inside = c.inside;
+          if (!inside) {
+            int cls = classify_box(clo, h);
+            if (cls < 0) continue;
+            inside = uint32_t(cls);
+          }
+          kept[ch].push_back({c.base, 2 * c.sx + dx, 2 * c.sy + dy, 2 * c.sz + dz, inside});
+        }
+      }
+    }
+    std::vector<ActiveCube> next;
+    for (auto& k : kept) next.insert(next.end(), k.begin(), k.end());
+    return next;
+  }
+
+  void order_seeds_by_cube() {
+    std::vector<Vec3> ordered;
+    ordered.reserve(s_.seeds.size());
+    for (int32_t& q : s_.cube_seed)
+      if (q >= 0) {
+        ordered.push_back(s_.seeds[q]);
+        q = int32_t(ordered.size() - 1);
+      }
+    s_.seeds = std::move(ordered);
+  }
+
+  const ConvexDomain& domain_;
+  double r_, r2_;
+  CounterRng rng_;
+  Sample s_;
+};
+
+}  // namespace
+
+Sample sample_maximal_poisson_disk(const ConvexDomain& domain, double r, uint64_t seed) {
+  return Sampler(domain, r, seed).run();
+}
+
+}  // namespace froth

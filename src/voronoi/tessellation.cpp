@@ -1,0 +1,264 @@
+// Cells are cut from a cube around each seed by the domain's facet planes and the bisectors of
+// the seeds in the grid stencil (Voronoi neighbours are at most 2r apart: paper §2.3, Lemma 1),
+// nearest first, until the security radius shows no farther seed can cut.
+//
+// Conformity: a vertex's name is the sorted set of its generators plus the cell's own seed
+// ({a,b,c,d} for a Voronoi vertex, {a,b,P,Q} on a domain edge, ...). Every cell that has the
+// vertex computes the same name, so the vertex's owner, the cell of its smallest seed, gives it
+// one global id and the other cells look it up there. Ids follow the seed order, so the mesh is
+// the same for any thread count.
+#include "voronoi/tessellation.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "common/tolerances.hpp"
+#include "froth/error.hpp"
+#include "voronoi/convex_cell.hpp"
+
+namespace froth {
+namespace {
+
+constexpr size_t kCellsPerChunk = 2048;
+
+// Cells of one chunk as built, with vertex names; local vertex ids fit in a byte.
+struct CellChunk {
+  std::vector<uint32_t> vertex_begin{0};   // per cell, into key_len
+  std::vector<uint32_t> key_begin{0};      // per cell, into keys
+  std::vector<uint32_t> face_begin{0};     // per cell, into face_gen
+  std::vector<uint32_t> owned_begin{0};    // per cell, into owned_points
+  std::vector<uint8_t> key_len;            // per vertex
+  std::vector<int32_t> keys;               // sorted generator names, own seed included
+  std::vector<Vec3> owned_points;          // positions of the vertices this cell owns
+  std::vector<int32_t> face_gen;
+  std::vector<uint8_t> face_size;
+  std::vector<uint8_t> face_vert;          // local vertex ids
+  std::vector<CellKind> kinds;
+  size_t face_vertex_count = 0;
+};
+
+struct Neighbour {
+  double d2;
+  int32_t seed;
+};
+
+class CellBuilder {
+ public:
+  CellBuilder(const ConvexDomain& domain, const Sample& sample, double r)
+      : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {}
+
+  // Builds cell i into `cell`; returns an empty string or what went wrong.
+  std::string build(int32_t i, ConvexCell& cell, std::vector<Neighbour>& nb) const {
+    const Vec3 x = sample_.seeds[i];
+    const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
+    cell.reset_cube(half);
+    for (size_t p = 0; p < domain_.planes.size(); ++p) {
+      const Plane& pl = domain_.planes[p];
+      double gap = pl.offset - dot(pl.normal, x);
+      if (gap >= half * std::sqrt(3.0)) continue;
+      if (!apply(cell, cell.clip(pl.normal, gap, plane_generator(int32_t(p)), eps_)))
+        return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
+    }
+    nb.clear();
+    const double reach = 2 * r_ * (1 + 1e-9);
+    sample_.grid.for_cubes_near(x, reach, [&](int64_t c) {
+      int32_t j = sample_.cube_seed[c];
+      if (j >= 0 && j != i) {
+        double d2 = norm2(sample_.seeds[j] - x);
+        if (d2 <= reach * reach) nb.push_back({d2, j});
+      }
+    });
+    std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
+      return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed;
+    });
+    double rmax2 = cell.max_radius2();
+    for (const Neighbour& n : nb) {
+      // Security radius: a seed farther than twice the cell's radius cannot cut it.
+      if (n.d2 > 4 * rmax2 + 4 * eps_ * std::sqrt(rmax2)) break;
+      double d = std::sqrt(n.d2);
+      Vec3 dir = (1 / d) * (sample_.seeds[n.seed] - x);
+      ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_);
+      if (!apply(cell, c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
+      if (c == ConvexCell::Clip::Cut) rmax2 = cell.max_radius2();
+    }
+    for (size_t f = 0; f < cell.face_count(); ++f)
+      if (ConvexCell::is_cube_generator(cell.face_generator(f)))
+        return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
+                           i, x.x, x.y, x.z);
+    if (cell.vertex_count() > 255) return fmt::format("cell {} has {} vertices", i, cell.vertex_count());
+    return {};
+  }
+
+ private:
+  static bool apply(ConvexCell&, ConvexCell::Clip c) {
+    return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged;
+  }
+  const ConvexDomain& domain_;
+  const Sample& sample_;
+  double r_, eps_;
+};
+
+void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell) {
+  int32_t key[ConvexCell::kMaxGenerators + 1];
+  bool fringe = false;
+  for (size_t v = 0; v < cell.vertex_count(); ++v) {
+    const auto& vx = cell.vertex(v);
+    int n = vx.ngen;
+    std::copy(vx.gen, vx.gen + n, key);
+    key[n++] = i;
+    for (int a = 1; a < n; ++a)  // insertion sort: keys have 4 entries, rarely more
+      for (int b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
+    ch.key_len.push_back(uint8_t(n));
+    ch.keys.insert(ch.keys.end(), key, key + n);
+    int32_t owner = *std::find_if(key, key + n, [](int32_t g) { return g >= 0; });
+    if (owner == i) ch.owned_points.push_back(x + vx.p);
+  }
+  for (size_t f = 0; f < cell.face_count(); ++f) {
+    int32_t g = cell.face_generator(f);
+    fringe |= is_border_generator(g);
+    ch.face_gen.push_back(g);
+    ch.face_size.push_back(uint8_t(cell.face_size(f)));
+    const uint16_t* fv = cell.face_begin(f);
+    for (size_t k = 0; k < cell.face_size(f); ++k) ch.face_vert.push_back(uint8_t(fv[k]));
+    ch.face_vertex_count += cell.face_size(f);
+  }
+  ch.kinds.push_back(fringe ? CellKind::Fringe : CellKind::Interior);
+  ch.vertex_begin.push_back(uint32_t(ch.key_len.size()));
+  ch.key_begin.push_back(uint32_t(ch.keys.size()));
+  ch.face_begin.push_back(uint32_t(ch.face_gen.size()));
+  ch.owned_begin.push_back(uint32_t(ch.owned_points.size()));
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, double r, TessellationTimes* times) {
+  auto t0 = std::chrono::steady_clock::now();
+  const size_t n = sample.seeds.size();
+  const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
+  std::vector<CellChunk> chunks(nchunks);
+  CellBuilder builder(domain, sample, r);
+  std::mutex error_mutex;
+  size_t first_bad = n;
+  std::string first_error;
+
+#pragma omp parallel
+  {
+    ConvexCell cell;
+    std::vector<Neighbour> nb;
+#pragma omp for schedule(dynamic, 1)
+    for (size_t c = 0; c < nchunks; ++c) {
+      CellChunk& ch = chunks[c];
+      for (size_t i = c * kCellsPerChunk; i < std::min(n, (c + 1) * kCellsPerChunk); ++i) {
+        std::string err = builder.build(int32_t(i), cell, nb);
+        if (!err.empty()) {
+          std::lock_guard lock(error_mutex);
+          if (i < first_bad) first_bad = i, first_error = err;
+          break;
+        }
+        append_cell(ch, int32_t(i), sample.seeds[i], cell);
+      }
+    }
+  }
+  if (!first_error.empty()) fail(ErrorKind::Internal, first_error);
+  if (times) times->cells = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+
+  // Global numbering: owned vertices in seed order; faces and face vertices in cell order.
+  PolyMesh mesh;
+  mesh.seeds = sample.seeds;
+  std::vector<int64_t> owned_base(n + 1, 0);
+  std::vector<int64_t> chunk_face(nchunks + 1, 0), chunk_fv(nchunks + 1, 0);
+  for (size_t c = 0; c < nchunks; ++c) {
+    const CellChunk& ch = chunks[c];
+    size_t first = c * kCellsPerChunk;
+    for (size_t k = 0; k + 1 < ch.owned_begin.size(); ++k)
+      owned_base[first + k + 1] = owned_base[first + k] + (ch.owned_begin[k + 1] - ch.owned_begin[k]);
+    chunk_face[c + 1] = chunk_face[c] + int64_t(ch.face_gen.size());
+    chunk_fv[c + 1] = chunk_fv[c] + int64_t(ch.face_vertex_count);
+  }
+  mesh.points.resize(owned_base[n]);
+  mesh.kinds.resize(n);
+  mesh.cell_face_begin.resize(n + 1);
+  mesh.face_generator.resize(chunk_face[nchunks]);
+  mesh.face_vertex_begin.resize(chunk_face[nchunks] + 1);
+  mesh.face_vertices.resize(chunk_fv[nchunks]);
+  mesh.cell_face_begin[n] = chunk_face[nchunks];
+  mesh.face_vertex_begin[chunk_face[nchunks]] = chunk_fv[nchunks];
+
+  std::atomic<size_t> unmatched{0};
+#pragma omp parallel
+  {
+    std::vector<int32_t> gid;
+#pragma omp for schedule(dynamic, 1)
+    for (size_t c = 0; c < nchunks; ++c) {
+      const CellChunk& ch = chunks[c];
+      const size_t first = c * kCellsPerChunk;
+      std::copy(ch.owned_points.begin(), ch.owned_points.end(), mesh.points.begin() + owned_base[first]);
+      std::copy(ch.kinds.begin(), ch.kinds.end(), mesh.kinds.begin() + first);
+      int64_t face = chunk_face[c], fv = chunk_fv[c];
+      size_t local_fv = 0;
+      for (size_t k = 0; k + 1 < ch.vertex_begin.size(); ++k) {
+        const int32_t i = int32_t(first + k);
+        // Global id of each local vertex.
+        gid.clear();
+        uint32_t kb = ch.key_begin[k];
+        int32_t rank = 0;
+        for (uint32_t v = ch.vertex_begin[k]; v < ch.vertex_begin[k + 1]; ++v) {
+          const int32_t* key = &ch.keys[kb];
+          const int len = ch.key_len[v];
+          kb += len;
+          const int32_t owner = *std::find_if(key, key + len, [](int32_t g) { return g >= 0; });
+          if (owner == i) {
+            gid.push_back(int32_t(owned_base[i] + rank++));
+            continue;
+          }
+          const CellChunk& oc = chunks[owner / kCellsPerChunk];
+          const size_t ok = owner % kCellsPerChunk;
+          uint32_t okb = oc.key_begin[ok];
+          int32_t orank = 0, found = -1;
+          for (uint32_t w = oc.vertex_begin[ok]; w < oc.vertex_begin[ok + 1]; ++w) {
+            const int32_t* okey = &oc.keys[okb];
+            const int olen = oc.key_len[w];
+            okb += olen;
+            const int32_t oowner = *std::find_if(okey, okey + olen, [](int32_t g) { return g >= 0; });
+            if (oowner != owner) continue;
+            if (olen == len && std::equal(key, key + len, okey)) {
+              found = int32_t(owned_base[owner] + orank);
+              break;
+            }
+            ++orank;
+          }
+          if (found < 0) unmatched.fetch_add(1, std::memory_order_relaxed);
+          gid.push_back(std::max(found, 0));
+        }
+        mesh.cell_face_begin[i] = face;
+        for (uint32_t f = ch.face_begin[k]; f < ch.face_begin[k + 1]; ++f) {
+          mesh.face_generator[face] = ch.face_gen[f];
+          mesh.face_vertex_begin[face] = fv;
+          for (int s = 0; s < ch.face_size[f]; ++s) mesh.face_vertices[fv++] = gid[ch.face_vert[local_fv++]];
+          ++face;
+        }
+      }
+    }
+  }
+  if (unmatched > 0)
+    fail(ErrorKind::Internal,
+         fmt::format("{} cell vertices are missing from the cell that owns them: neighbouring cells disagree "
+                     "(near-degenerate seeds?)",
+                     unmatched.load()));
+  if (times) times->assembly = seconds_since(t0);
+  return mesh;
+}
+
+}  // namespace froth
