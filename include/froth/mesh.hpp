@@ -51,6 +51,12 @@ struct StageTiming {
   double seconds = 0;
 };
 
+struct SamplingLevel {
+  size_t active_cubes = 0;  // at the start of the level
+  size_t darts = 0;
+  size_t accepted = 0;
+};
+
 struct SamplingStats {
   size_t seeds = 0;
   size_t darts = 0;              // darts thrown in all rounds
@@ -58,6 +64,7 @@ struct SamplingStats {
   size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
   double base_cube_side = 0;
   std::array<size_t, 3> grid{};  // base grid cubes per axis
+  std::vector<SamplingLevel> per_level;
 };
 
 struct RunReport {

@@ -87,9 +87,16 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
   while (in >> word) {
     if (word == "vertex") {
       Vec3 p;
-      if (!(in >> p.x >> p.y >> p.z))
-        fail(ErrorKind::InvalidInput,
-             fmt::format("{}: facet {}: 'vertex' is not followed by three numbers", file, line_facets));
+      double* xyz[3] = {&p.x, &p.y, &p.z};
+      for (double* c : xyz) {
+        // strtod, unlike operator>>, also reads "nan" and "inf", which are then named below.
+        std::string token;
+        char* end = nullptr;
+        if (in >> token) *c = std::strtod(token.c_str(), &end);
+        if (token.empty() || end != token.c_str() + token.size())
+          fail(ErrorKind::InvalidInput,
+               fmt::format("{}: facet {}: 'vertex' is not followed by three numbers", file, line_facets));
+      }
       check_finite(file, line_facets, p);
       if (corner == 3)
         fail(ErrorKind::InvalidInput, fmt::format("{}: facet {} has more than 3 vertices", file, line_facets));

@@ -19,6 +19,8 @@ std::string report_json_text(const RunReport& run) {
                    {"maximal", s.uncovered_cubes == 0},
                    {"base_cube_side", s.base_cube_side},
                    {"grid", s.grid}};
+  for (const auto& l : s.per_level)
+    j["sampling"]["per_level"].push_back({{"active_cubes", l.active_cubes}, {"darts", l.darts}, {"accepted", l.accepted}});
   j["mesh"] = {{"cells", run.cells},
                {"interior_cells", run.interior_cells},
                {"fringe_cells", run.fringe_cells},

@@ -67,7 +67,11 @@ class Sampler {
     int level = 0;
     while (!active.empty()) {
       const int rounds = level == 0 ? kRoundsLevel0 : kRoundsPerLevel;
+      const size_t darts0 = s_.stats.darts, seeds0 = s_.seeds.size();
+      s_.stats.per_level.push_back({active.size(), 0, 0});
       for (int q = 0; q < rounds && !active.empty(); ++q) throw_round(active, level, q);
+      s_.stats.per_level.back().darts = s_.stats.darts - darts0;
+      s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;
       if (level == tol::kMaxSamplingLevel) break;
       active = refine(active, level);
       ++level;

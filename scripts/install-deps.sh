@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs froth's build, test and benchmark dependencies: Debian bookworm packages only.
+set -euo pipefail
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO=sudo
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends \
+  g++ cmake make pkg-config \
+  libcgal-dev libgmp-dev libmpfr-dev libboost-dev \
+  librandom123-dev libcli11-dev libfmt-dev nlohmann-json3-dev \
+  libgtest-dev libbenchmark-dev voro++-dev \
+  python3 python3-numpy python3-vtk9 python3-meshio

@@ -1,0 +1,117 @@
+// The paper's guarantees on whole meshes (welding off), for several seeds and radii, on a box and
+// on the icosphere: empty disk, maximality (Lemma 1), volume sum, closed cells, matched faces,
+// the r/2 ball in interior cells (Lemma 2) and interior dihedral angles in [60, 150] (Lemma 6).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tuple>
+
+#include <fmt/format.h>
+
+#include "common/test_support.hpp"
+
+namespace froth {
+namespace {
+
+struct Case {
+  std::string domain;
+  double r;
+  uint64_t seed;
+};
+
+void PrintTo(const Case& c, std::ostream* os) { *os << c.domain << " r=" << c.r << " seed=" << c.seed; }
+
+class MeshProperties : public testing::TestWithParam<Case> {};
+
+TEST_P(MeshProperties, PaperGuaranteesHold) {
+  const Case& k = GetParam();
+  ConvexDomain d = load_domain(k.domain == "sphere" ? test::model("unit_sphere.STL") : k.domain);
+  RunReport run;
+  PolyMesh m = test::mesh_of(d, k.r, k.seed, 2, &run);
+  const double r = k.r;
+  ASSERT_GT(m.cell_count(), 50u);
+
+  EXPECT_GE(test::min_seed_distance(m.seeds, r), r);  // empty disk
+
+  MeshCheck check = check_mesh(m);
+  EXPECT_TRUE(check.ok()) << check.first_problem;
+
+  double sum = 0;
+  size_t interior = 0, border_faces = 0;
+  double border_area = 0;
+  for (size_t c = 0; c < m.cell_count(); ++c) {
+    double v = cell_volume(m, c);
+    EXPECT_GT(v, 0);
+    EXPECT_NEAR(v, m.volumes[c], 1e-12 * r * r * r);
+    sum += v;
+    const Vec3 x = m.seeds[c];
+    bool border = false;
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      border |= m.face_generator[f] < 0;
+      for (int64_t i = m.face_vertex_begin[f]; i < m.face_vertex_begin[f + 1]; ++i)
+        EXPECT_LE(norm(m.points[m.face_vertices[i]] - x), r * (1 + 1e-6)) << "Lemma 1, cell " << c;
+      if (m.face_generator[f] < 0) {
+        ++border_faces;
+        Vec3 a2;
+        int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+        for (int64_t i = b + 1; i + 1 < e; ++i)
+          a2 = a2 + cross(m.points[m.face_vertices[i]] - m.points[m.face_vertices[b]],
+                          m.points[m.face_vertices[i + 1]] - m.points[m.face_vertices[b]]);
+        border_area += norm(a2) / 2;
+      }
+    }
+    EXPECT_EQ(border, m.kinds[c] == CellKind::Fringe);
+    if (border) continue;
+    ++interior;
+    // Lemma 2: the ball of radius r/2 at the seed lies inside the interior cell.
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      double gap = dot(test::face_normal(m, f), test::face_centroid(m, f) - x);
+      EXPECT_GE(gap, r / 2 * (1 - 1e-9)) << "Lemma 2, cell " << c;
+    }
+    // Lemma 6: interior dihedral angles in [60, 150] degrees.
+    for (double a : test::dihedral_angles(m, c)) {
+      EXPECT_GE(a, 60 - 1e-6) << "Lemma 6, cell " << c;
+      EXPECT_LE(a, 150 + 1e-6) << "Lemma 6, cell " << c;
+    }
+  }
+  EXPECT_GT(interior, 0u);
+  EXPECT_NEAR(sum, d.volume, 1e-9 * d.volume);
+  EXPECT_NEAR(run.volume_sum, d.volume, 1e-9 * d.volume);
+  EXPECT_NEAR(border_area, d.surface_area, 1e-9 * d.surface_area);
+  EXPECT_EQ(run.cells, m.cell_count());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BoxAndSphere, MeshProperties,
+    testing::Values(Case{"box:0,0,0,1,1,1", 0.1, 1}, Case{"box:0,0,0,1,1,1", 0.1, 2},
+                    Case{"box:-1,0,2,1.5,0.7,2.9", 0.07, 3}, Case{"box:0,0,0,1,1,1", 0.05, 4},
+                    Case{"sphere", 0.2, 1}, Case{"sphere", 0.1, 2}, Case{"sphere", 0.1, 3},
+                    Case{"sphere", 0.06, 4}),
+    [](const testing::TestParamInfo<Case>& i) {
+      return fmt::format("{}_r{}_seed{}", i.param.domain == "sphere" ? "sphere" : "box" + std::to_string(i.index),
+                         int(std::round(i.param.r * 1000)), i.param.seed);
+    });
+
+TEST(MeshDeterminism, SameSeedSameMeshForOneAndTwoThreads) {
+  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  PolyMesh a = test::mesh_of(d, 0.12, 5, 1), b = test::mesh_of(d, 0.12, 5, 2);
+  EXPECT_EQ(a.face_vertices, b.face_vertices);
+  EXPECT_EQ(a.face_generator, b.face_generator);
+  ASSERT_EQ(a.points.size(), b.points.size());
+  for (size_t i = 0; i < a.points.size(); ++i) EXPECT_EQ(norm2(a.points[i] - b.points[i]), 0.0);
+}
+
+TEST(MeshErrors, BadParametersAreUsageErrors) {
+  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  for (double r : {0.0, -1.0, double(NAN)}) {
+    try {
+      test::mesh_of(d, r, 1, 1);
+      ADD_FAILURE() << "r = " << r << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Usage);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace froth
