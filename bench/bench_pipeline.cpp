@@ -1,0 +1,107 @@
+// Benchmark: froth's whole pipeline on the unit cube against voro++ computing the cells of the
+// same seeds, at several sizes. Prints a table. Usage:
+//   froth_bench [--threads N] [--seed S] [CELLS ...]     (default 1e4 1e5 1e6)
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <voro++.hh>
+
+#include "froth/froth.hpp"
+#include "sampling/mps.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+size_t rss_kib(const char* key) {
+  std::ifstream s("/proc/self/status");
+  std::string k;
+  while (s >> k) {
+    if (k == key) {
+      size_t v;
+      s >> v;
+      return v;
+    }
+    s.ignore(1 << 20, '\n');
+  }
+  return 0;
+}
+void reset_peak_rss() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+// r giving about `cells` cells in the unit cube (r = 0.01 gives 747,714, and N ~ r^-3).
+double radius_for(double cells) { return 0.01 * std::cbrt(747714.0 / cells); }
+
+// voro++ cells of the given seeds in the unit cube, one thread; returns seconds and volume sum.
+std::pair<double, double> voro_cells(const std::vector<froth::Vec3>& seeds) {
+  auto t0 = Clock::now();
+  int n = std::max(1, int(std::cbrt(seeds.size() / 5.0)));  // about 5 seeds per block
+  voro::container con(0, 1, 0, 1, 0, 1, n, n, n, false, false, false, 8);
+  for (size_t i = 0; i < seeds.size(); ++i) con.put(int(i), seeds[i].x, seeds[i].y, seeds[i].z);
+  voro::c_loop_all loop(con);
+  voro::voronoicell cell;
+  double volume = 0;
+  if (loop.start()) do {
+      if (con.compute_cell(cell, loop)) volume += cell.volume();
+    } while (loop.inc());
+  return {since(t0), volume};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int threads = 2;
+  uint64_t seed = 1;
+  std::vector<double> sizes;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    else if (a == "--seed" && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
+    else sizes.push_back(std::atof(a.c_str()));
+  }
+  if (sizes.empty()) sizes = {1e4, 1e5, 1e6};
+  froth::ConvexDomain cube = froth::make_box_domain({0, 0, 0}, {1, 1, 1});
+
+  fmt::print("froth pipeline on the unit cube, {} threads; voro++ (1 thread) on the same seeds\n", threads);
+  fmt::print("{:>9} {:>8} | {:>8} {:>10} | {:>8} {:>8} {:>8} {:>9} {:>8} | {:>9} {:>8} {:>8} | {:>7}\n", "cells", "r",
+             "sample s", "seeds/s", "cells s", "assem s", "check s", "total s", "us/cell", "peak MiB", "B/cell",
+             "voro++ s", "ratio");
+  for (double target : sizes) {
+    const double r = radius_for(target);
+    reset_peak_rss();
+    const size_t base_kib = rss_kib("VmRSS:");
+    froth::MeshOptions opt;
+    opt.r = r;
+    opt.seed = seed;
+    opt.threads = threads;
+    froth::RunReport run;
+    auto t0 = Clock::now();
+    froth::PolyMesh mesh = froth::generate_mesh(cube, opt, &run);
+    const double total = since(t0);
+    const size_t peak_kib = rss_kib("VmHWM:");
+    auto stage = [&](const char* name) {
+      for (auto& s : run.stages)
+        if (s.stage == name) return s.seconds;
+      return 0.0;
+    };
+    omp_set_num_threads(1);
+    auto [voro_s, voro_vol] = voro_cells(mesh.seeds);
+    if (std::abs(voro_vol - 1) > 1e-8) fmt::print(stderr, "voro++ volume sum {} != 1\n", voro_vol);
+    const double n = double(run.cells);
+    fmt::print("{:>9} {:>8.5f} | {:>8.3f} {:>10.0f} | {:>8.3f} {:>8.3f} {:>8.3f} {:>9.3f} {:>8.2f} | {:>9.1f} {:>8.0f} "
+               "{:>8.3f} | {:>7.2f}\n",
+               run.cells, r, stage("sampling"), n / stage("sampling"), stage("cells"), stage("assembly"),
+               stage("validation"), total, 1e6 * total / n, peak_kib / 1024.0, (peak_kib - base_kib) * 1024.0 / n,
+               voro_s, total / voro_s);
+    std::fflush(stdout);
+  }
+  fmt::print("total s = sampling + cells + assembly + check (file writing excluded); ratio = froth total / voro++;\n"
+             "B/cell = (peak RSS during the run - RSS before it) / cells.\n");
+}
