@@ -37,7 +37,7 @@ struct Candidate {
 // Expected darts per active cube per round, and rounds per refinement level. They tune speed
 // only: the law of the sample is the same for any choice.
 constexpr double kDartsPerCubePerRound = 1.0;
-constexpr int kRoundsLevel0 = 4;
+constexpr int kRoundsLevel0 = 1;
 constexpr int kRoundsPerLevel = 1;
 constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
 
@@ -74,6 +74,7 @@ class Sampler {
       s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;
       if (level == tol::kMaxSamplingLevel) break;
       active = refine(active, level);
+
       ++level;
     }
     s_.stats.levels = size_t(level) + 1;
@@ -97,6 +98,64 @@ class Sampler {
       if (q >= 0 && norm2(s_.seeds[q] - p) < r2_) hit = true;
     });
     return hit;
+  }
+
+  // Seeds that may lie within r of some point of the cube [lo, lo + h]^3.
+  void seeds_near_box(Vec3 lo, double h, std::vector<Vec3>& near) const {
+    near.clear();
+    const double half = h / 2;
+    s_.grid.for_cubes_near(lo + Vec3{half, half, half}, r_ + half * std::sqrt(3.0), [&](int64_t q) {
+      if (s_.cube_seed[q] >= 0) near.push_back(s_.seeds[s_.cube_seed[q]]);
+    });
+  }
+
+  // Is the cube [lo, lo + h]^3 inside the union of the r-balls around `near`? Exact for one
+  // ball (the farthest corner is within r) and for two balls A, B: the cube's part on A's side
+  // of their bisector is a convex polytope, inside ball A iff its vertices are (the cube corners
+  // on A's side and the cube edges' crossings of the bisector), and likewise for B. Which two
+  // balls: the nearest seeds of the cube's corners, when there are only two.
+  bool covered(Vec3 lo, double h, const std::vector<Vec3>& near) const {
+    for (Vec3 q : near) {
+      // The corner farthest from q is within r: the whole cube is in q's ball.
+      double fx = std::max(std::abs(q.x - lo.x), std::abs(lo.x + h - q.x));
+      double fy = std::max(std::abs(q.y - lo.y), std::abs(lo.y + h - q.y));
+      double fz = std::max(std::abs(q.z - lo.z), std::abs(lo.z + h - q.z));
+      if (fx * fx + fy * fy + fz * fz <= r2_) return true;
+    }
+    Vec3 corner[8];
+    int nearest[8];
+    int a = -1, b = -1;
+    bool all_within = true;
+    for (int k = 0; k < 8; ++k) {
+      corner[k] = lo + Vec3{(k & 1) * h, ((k >> 1) & 1) * h, (k >> 2) * h};
+      double best = INFINITY;
+      nearest[k] = -1;
+      for (size_t i = 0; i < near.size(); ++i) {
+        double d = norm2(near[i] - corner[k]);
+        if (d < best) best = d, nearest[k] = int(i);
+      }
+      if (best > r2_) return false;  // a corner is uncovered
+      if (a < 0 || nearest[k] == a) a = nearest[k];
+      else if (b < 0 || nearest[k] == b) b = nearest[k];
+      else all_within = false;  // three or more nearest seeds: give up (keep the cube)
+    }
+    if (!all_within || b < 0) return false;
+    // Two balls: each corner is within r of its nearest seed (checked); each edge whose ends
+    // have different nearest seeds crosses the bisector at a point that must be within r.
+    const Vec3 qa = near[a], qb = near[b];
+    const Vec3 n = qb - qa;
+    const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
+    static constexpr int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                         {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+    for (const auto& e : edges) {
+      const double su = dot(n, corner[e[0]]) - mid, sv = dot(n, corner[e[1]]) - mid;
+      if ((su < 0) == (sv < 0)) continue;
+      const Vec3 x = corner[e[0]] + (su / (su - sv)) * (corner[e[1]] - corner[e[0]]);
+      if (norm2(x - qa) >= r2_ * (1 - 1e-12)) return false;
+    }
+    // Corners are classified by nearest seed but the bisector test by sign; they agree up to
+    // round-off, and a tie point is within r of both by the check above.
+    return true;
   }
 
   // -1 outside, 0 cut by the boundary, 1 inside.
@@ -129,10 +188,16 @@ class Sampler {
     size_t darts = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : darts)
     for (size_t ch = 0; ch < chunks; ++ch) {
+      std::vector<Vec3> near;
+      int64_t near_base = -1;
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
         if (s_.cube_seed[c.base] >= 0) continue;
+        if (c.base != near_base) {  // sub-cubes of one base cube are adjacent in the list
+          near_base = c.base;
+          seeds_near_box(base_origin(c.base), s_.grid.side, near);
+        }
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
         const uint64_t tag = (uint64_t(c.sz) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
         int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]), kDartsPerCubePerRound);
@@ -142,7 +207,9 @@ class Sampler {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
           if (!c.inside && !domain_.contains(p)) continue;
-          if (conflicts(p)) continue;
+          bool hit = false;
+          for (Vec3 q : near) hit |= norm2(q - p) < r2_;
+          if (hit) continue;
           found[ch].push_back({w[3], c.base, p});
         }
       }
@@ -170,29 +237,27 @@ class Sampler {
     std::vector<std::vector<ActiveCube>> kept(chunks);
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t ch = 0; ch < chunks; ++ch) {
-      std::vector<Vec3> near;
+      std::vector<Vec3> near_base, near;
+      int64_t cached_base = -1;
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
         if (s_.cube_seed[c.base] >= 0) continue;  // its seed covers the whole base cube
+        if (c.base != cached_base) {  // sub-cubes of one base cube are adjacent in the list
+          cached_base = c.base;
+          seeds_near_box(base_origin(c.base), s_.grid.side, near_base);
+        }
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz * 2 * h};
-        Vec3 center = lo + Vec3{h, h, h};
+        // Of the base cube's neighbours, those that may reach this cube.
+        const Vec3 center = lo + Vec3{h, h, h};
+        const double reach = r_ + h * std::sqrt(3.0);
         near.clear();
-        s_.grid.for_cubes_near(center, r_ + h * std::sqrt(3.0), [&](int64_t q) {
-          if (s_.cube_seed[q] >= 0) near.push_back(s_.seeds[s_.cube_seed[q]]);
-        });
+        for (Vec3 q : near_base)
+          if (norm2(q - center) < reach * reach) near.push_back(q);
         for (uint32_t child = 0; child < 8; ++child) {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
-          bool covered = false;
-          for (Vec3 q : near) {
-            // Farthest corner of the child from q within r: the whole child is covered.
-            double fx = std::max(std::abs(q.x - clo.x), std::abs(clo.x + h - q.x));
-            double fy = std::max(std::abs(q.y - clo.y), std::abs(clo.y + h - q.y));
-            double fz = std::max(std::abs(q.z - clo.z), std::abs(clo.z + h - q.z));
-            if (fx * fx + fy * fy + fz * fz <= r2_) { covered = true; break; }
-          }
-          if (covered) continue;
+          if (covered(clo, h, near)) continue;
           uint32_t inside = c.inside;
           if (!inside) {
             int cls = classify_box(clo, h);
