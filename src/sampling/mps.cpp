@@ -36,7 +36,7 @@ struct Candidate {
 
 // Expected darts per active cube per round, and rounds per refinement level. They tune speed
 // only: the law of the sample is the same for any choice.
-constexpr double kDartsPerCubePerRound = 1.0;
+constexpr double kDartsPerCubePerRound = 0.5;
 constexpr int kRoundsLevel0 = 1;
 constexpr int kRoundsPerLevel = 1;
 constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
