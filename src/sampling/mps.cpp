@@ -58,6 +58,7 @@ class Sampler {
       : domain_(domain), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
+    s_.buckets = SeedBuckets(domain.bounds, r);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
@@ -93,19 +94,23 @@ class Sampler {
 
   bool conflicts(Vec3 p) const {
     bool hit = false;
-    s_.grid.for_cubes_near(p, r_, [&](int64_t c) {
-      int32_t q = s_.cube_seed[c];
-      if (q >= 0 && norm2(s_.seeds[q] - p) < r2_) hit = true;
-    });
+    s_.buckets.for_each_near(p, p, r_, [&](int32_t q) { hit |= norm2(s_.seeds[q] - p) < r2_; });
     return hit;
   }
 
   // Seeds that may lie within r of some point of the cube [lo, lo + h]^3.
   void seeds_near_box(Vec3 lo, double h, std::vector<Vec3>& near) const {
     near.clear();
-    const double half = h / 2;
-    s_.grid.for_cubes_near(lo + Vec3{half, half, half}, r_ + half * std::sqrt(3.0), [&](int64_t q) {
-      if (s_.cube_seed[q] >= 0) near.push_back(s_.seeds[s_.cube_seed[q]]);
+    const Vec3 hi = lo + Vec3{h, h, h};
+    s_.buckets.for_each_near(lo, hi, r_, [&](int32_t q) {
+      // Keep q if its distance to the box is below r.
+      Vec3 p = s_.seeds[q];
+      double d2 = 0;
+      for (int a = 0; a < 3; ++a) {
+        double t = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
+        d2 += t * t;
+      }
+      if (d2 < r2_) near.push_back(p);
     });
   }
 
@@ -225,6 +230,7 @@ class Sampler {
     for (const Candidate& c : all) {
       if (s_.cube_seed[c.base] >= 0 || conflicts(c.p)) continue;
       s_.cube_seed[c.base] = int32_t(s_.seeds.size());
+      s_.buckets.insert(int32_t(s_.seeds.size()), c.p);
       s_.seeds.push_back(c.p);
     }
   }
@@ -275,13 +281,16 @@ class Sampler {
 
   void order_seeds_by_cube() {
     std::vector<Vec3> ordered;
+    std::vector<int32_t> new_id(s_.seeds.size());
     ordered.reserve(s_.seeds.size());
     for (int32_t& q : s_.cube_seed)
       if (q >= 0) {
         ordered.push_back(s_.seeds[q]);
-        q = int32_t(ordered.size() - 1);
+        new_id[q] = int32_t(ordered.size() - 1);
+        q = new_id[q];
       }
     s_.seeds = std::move(ordered);
+    s_.buckets.renumber(new_id);
   }
 
   const ConvexDomain& domain_;

@@ -1,0 +1,93 @@
+// Seeds bucketed in cubes of side r. Points pairwise at least r apart fit at most 8 to such a
+// cube (its corners), so a bucket is a fixed array of 8 ids, and a query for the seeds within
+// reach of a point or box reads a few contiguous buckets instead of walking the fine sampling
+// grid (cubes of side r/sqrt(3), ~0.15 seeds each). Each bucket also keeps its seeds' offsets
+// from the bucket's corner as floats (exact to ~1e-7 r), a prefilter that spares most reads of
+// the (unordered) seed array; callers still decide with the exact coordinates.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "froth/error.hpp"
+#include "froth/geometry.hpp"
+
+namespace froth {
+
+class SeedBuckets {
+ public:
+  static constexpr int kCapacity = 8;
+
+  SeedBuckets() = default;
+  SeedBuckets(const Box& box, double r) : origin_(box.lo), side_(r) {
+    Vec3 s = box.size();
+    n_[0] = std::max(1, int(std::ceil(s.x / r)));
+    n_[1] = std::max(1, int(std::ceil(s.y / r)));
+    n_[2] = std::max(1, int(std::ceil(s.z / r)));
+    buckets_.assign(size_t(n_[0]) * n_[1] * n_[2], Bucket{});
+  }
+
+  void insert(int32_t id, Vec3 p) {
+    int i = axis(p.x - origin_.x, 0), j = axis(p.y - origin_.y, 1), k = axis(p.z - origin_.z, 2);
+    Bucket& b = buckets_[index(i, j, k)];
+    if (b.count == kCapacity)
+      fail(ErrorKind::Internal, "more than 8 seeds r apart in a cube of side r: the sample is not an r-sample");
+    Vec3 c = corner(i, j, k);
+    b.x[b.count] = float(p.x - c.x);
+    b.y[b.count] = float(p.y - c.y);
+    b.z[b.count] = float(p.z - c.z);
+    b.id[b.count++] = id;
+  }
+
+  // Calls f(id) for every seed that may lie within `reach` of the box [lo, hi] (a superset of
+  // those that do: the float prefilter errs on the side of keeping).
+  template <class F>
+  void for_each_near(Vec3 lo, Vec3 hi, double reach, F&& f) const {
+    int a[3], b[3];
+    for (int d = 0; d < 3; ++d) {
+      a[d] = axis(lo[d] - reach - origin_[d], d);
+      b[d] = axis(hi[d] + reach - origin_[d], d);
+    }
+    const float reach2 = float(reach * reach * (1 + 1e-4) + 1e-10 * side_ * side_);
+    for (int k = a[2]; k <= b[2]; ++k)
+      for (int j = a[1]; j <= b[1]; ++j)
+        for (int i = a[0]; i <= b[0]; ++i) {
+          const Bucket& bk = buckets_[index(i, j, k)];
+          if (bk.count == 0) continue;
+          const Vec3 c = corner(i, j, k);
+          const float lx = float(lo.x - c.x), ly = float(lo.y - c.y), lz = float(lo.z - c.z);
+          const float hx = float(hi.x - c.x), hy = float(hi.y - c.y), hz = float(hi.z - c.z);
+          for (int s = 0; s < bk.count; ++s) {
+            float dx = std::max({lx - bk.x[s], bk.x[s] - hx, 0.f});
+            float dy = std::max({ly - bk.y[s], bk.y[s] - hy, 0.f});
+            float dz = std::max({lz - bk.z[s], bk.z[s] - hz, 0.f});
+            if (dx * dx + dy * dy + dz * dz <= reach2) f(bk.id[s]);
+          }
+        }
+  }
+
+  // Re-numbers every stored id through `map` (after the seeds are re-ordered).
+  void renumber(const std::vector<int32_t>& map) {
+    for (Bucket& b : buckets_)
+      for (int s = 0; s < b.count; ++s) b.id[s] = map[b.id[s]];
+  }
+
+ private:
+  struct Bucket {
+    float x[kCapacity], y[kCapacity], z[kCapacity];
+    int32_t id[kCapacity];
+    int32_t count = 0;
+  };
+  Vec3 corner(int i, int j, int k) const { return origin_ + Vec3{i * side_, j * side_, k * side_}; }
+  int axis(double t, int d) const { return std::clamp(int(std::floor(t / side_)), 0, n_[d] - 1); }
+  size_t index(int i, int j, int k) const { return (size_t(k) * n_[1] + j) * n_[0] + i; }
+
+  Vec3 origin_;
+  double side_ = 1;
+  int n_[3] = {1, 1, 1};
+  std::vector<Bucket> buckets_;
+};
+
+}  // namespace froth
