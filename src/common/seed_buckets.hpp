@@ -27,18 +27,21 @@ class SeedBuckets {
     n_[1] = std::max(1, int(std::ceil(s.y / r)));
     n_[2] = std::max(1, int(std::ceil(s.z / r)));
     buckets_.assign(size_t(n_[0]) * n_[1] * n_[2], Bucket{});
+    counts_.assign(buckets_.size(), 0);
   }
 
   void insert(int32_t id, Vec3 p) {
     int i = axis(p.x - origin_.x, 0), j = axis(p.y - origin_.y, 1), k = axis(p.z - origin_.z, 2);
-    Bucket& b = buckets_[index(i, j, k)];
-    if (b.count == kCapacity)
+    const size_t at = index(i, j, k);
+    Bucket& b = buckets_[at];
+    uint8_t& n = counts_[at];
+    if (n == kCapacity)
       fail(ErrorKind::Internal, "more than 8 seeds r apart in a cube of side r: the sample is not an r-sample");
     Vec3 c = corner(i, j, k);
-    b.x[b.count] = float(p.x - c.x);
-    b.y[b.count] = float(p.y - c.y);
-    b.z[b.count] = float(p.z - c.z);
-    b.id[b.count++] = id;
+    b.x[n] = float(p.x - c.x);
+    b.y[n] = float(p.y - c.y);
+    b.z[n] = float(p.z - c.z);
+    b.id[n++] = id;
   }
 
   // Calls f(id) for every seed that may lie within `reach` of the box [lo, hi] (a superset of
@@ -51,34 +54,46 @@ class SeedBuckets {
       b[d] = axis(hi[d] + reach - origin_[d], d);
     }
     const float reach2 = float(reach * reach * (1 + 1e-4) + 1e-10 * side_ * side_);
-    for (int k = a[2]; k <= b[2]; ++k)
-      for (int j = a[1]; j <= b[1]; ++j)
+    const double reach2_bucket = reach * reach * (1 + 1e-9);
+    auto gap = [&](int i, int d) {  // distance along axis d from bucket slab i to [lo, hi]
+      double b0 = origin_[d] + i * side_, b1 = b0 + side_;
+      double t = b1 < lo[d] ? lo[d] - b1 : (b0 > hi[d] ? b0 - hi[d] : 0.0);
+      return t * t;
+    };
+    for (int k = a[2]; k <= b[2]; ++k) {
+      const double gz = gap(k, 2);
+      for (int j = a[1]; j <= b[1]; ++j) {
+        const double gyz = gz + gap(j, 1);
+        if (gyz > reach2_bucket) continue;
+        const size_t row = index(0, j, k);
         for (int i = a[0]; i <= b[0]; ++i) {
-          const Bucket& bk = buckets_[index(i, j, k)];
-          if (bk.count == 0) continue;
+          const int count = counts_[row + i];
+          if (count == 0 || gyz + gap(i, 0) > reach2_bucket) continue;
+          const Bucket& bk = buckets_[row + i];
           const Vec3 c = corner(i, j, k);
           const float lx = float(lo.x - c.x), ly = float(lo.y - c.y), lz = float(lo.z - c.z);
           const float hx = float(hi.x - c.x), hy = float(hi.y - c.y), hz = float(hi.z - c.z);
-          for (int s = 0; s < bk.count; ++s) {
+          for (int s = 0; s < count; ++s) {
             float dx = std::max({lx - bk.x[s], bk.x[s] - hx, 0.f});
             float dy = std::max({ly - bk.y[s], bk.y[s] - hy, 0.f});
             float dz = std::max({lz - bk.z[s], bk.z[s] - hz, 0.f});
             if (dx * dx + dy * dy + dz * dz <= reach2) f(bk.id[s]);
           }
         }
+      }
+    }
   }
 
   // Re-numbers every stored id through `map` (after the seeds are re-ordered).
   void renumber(const std::vector<int32_t>& map) {
-    for (Bucket& b : buckets_)
-      for (int s = 0; s < b.count; ++s) b.id[s] = map[b.id[s]];
+    for (size_t b = 0; b < buckets_.size(); ++b)
+      for (int s = 0; s < counts_[b]; ++s) buckets_[b].id[s] = map[buckets_[b].id[s]];
   }
 
  private:
   struct Bucket {
     float x[kCapacity], y[kCapacity], z[kCapacity];
     int32_t id[kCapacity];
-    int32_t count = 0;
   };
   Vec3 corner(int i, int j, int k) const { return origin_ + Vec3{i * side_, j * side_, k * side_}; }
   int axis(double t, int d) const { return std::clamp(int(std::floor(t / side_)), 0, n_[d] - 1); }
@@ -88,6 +103,7 @@ class SeedBuckets {
   double side_ = 1;
   int n_[3] = {1, 1, 1};
   std::vector<Bucket> buckets_;
+  std::vector<uint8_t> counts_;  // apart from the payload: most buckets are empty
 };
 
 }  // namespace froth
