@@ -58,7 +58,7 @@ int run_mesh(const MeshArgs& a) {
   if (opt.progress) opt.progress("writing");
   froth::write_vtu(mesh, run, output);
   double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  run.stages.push_back({"writing", write_seconds});
+  run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
   if (!a.report.empty()) froth::write_report_json(run, a.report);
   run.stages.pop_back();
   print_summary(run, output, write_seconds);

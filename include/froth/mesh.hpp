@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,30 @@
 #include "froth/geometry.hpp"
 
 namespace froth {
+
+// std::vector's allocator, except that resize() leaves new elements of trivial types
+// uninitialised: the mesh's large arrays are sized first and filled in parallel, and pages that
+// are not yet written then cost no memory.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <class U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) {}
+  template <class U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using Buffer = std::vector<T, UninitializedAllocator<T>>;
 
 enum class CellKind : uint8_t { Interior = 0, Fringe = 1, Edge = 2, Vertex = 3 };
 
@@ -25,14 +51,14 @@ inline int32_t generator_plane(int32_t g) { return -g - 1; }
 // face_vertices[face_vertex_begin[f] .. face_vertex_begin[f+1]), counter-clockwise seen from
 // outside the cell. Shared vertices have one id: the mesh is conforming.
 struct PolyMesh {
-  std::vector<Vec3> points;
+  Buffer<Vec3> points;
   std::vector<Vec3> seeds;            // one per cell, cell c belongs to seeds[c]
   std::vector<CellKind> kinds;
   std::vector<double> volumes;
   std::vector<int64_t> cell_face_begin{0};
-  std::vector<int32_t> face_generator;
-  std::vector<int64_t> face_vertex_begin{0};
-  std::vector<int32_t> face_vertices;
+  Buffer<int32_t> face_generator;
+  Buffer<int64_t> face_vertex_begin{0};
+  Buffer<int32_t> face_vertices;
 
   size_t cell_count() const { return seeds.size(); }
   size_t face_count() const { return face_generator.size(); }
@@ -49,6 +75,7 @@ struct MeshOptions {
 struct StageTiming {
   std::string stage;
   double seconds = 0;
+  size_t peak_rss_bytes = 0;  // process peak resident memory when the stage ended
 };
 
 struct SamplingLevel {
@@ -85,6 +112,9 @@ struct RunReport {
     return domain_volume > 0 ? std::abs(volume_sum - domain_volume) / domain_volume : 0;
   }
 };
+
+// The process's peak resident memory so far (Linux VmHWM), in bytes.
+size_t peak_rss_bytes();
 
 // The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
 PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& options, RunReport* report);

@@ -11,9 +11,9 @@ inline double on_plane(double r) { return 1e-11 * r; }
 // Facet planes whose normals and offsets agree to this are one plane of the domain.
 inline double coplanar(double domain_diagonal) { return 1e-9 * domain_diagonal; }
 
-// Finest sub-cube level of the sampler: cubes of side base / 2^32 (~1e-10 r) are at the
+// Finest sub-cube level of the sampler: cubes of side base / 2^31 (~3e-10 r) are at the
 // round-off of coordinates, so the sample is maximal up to round-off. (Sub-cube coordinates
-// within a base cube are 32-bit.)
-inline constexpr int kMaxSamplingLevel = 32;
+// within a base cube are 31-bit.)
+inline constexpr int kMaxSamplingLevel = 31;
 
 }  // namespace froth::tol

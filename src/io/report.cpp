@@ -30,8 +30,10 @@ std::string report_json_text(const RunReport& run) {
                  {"cells_sum", run.volume_sum},
                  {"relative_error", run.volume_relative_error()}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const auto& st : run.stages) stages[st.stage] = st.seconds;
+  nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
+  for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;
   j["seconds"] = stages;
+  j["peak_memory_bytes_after_stage"] = peaks;
   j["seconds_total"] = run.total_seconds;
   j["peak_memory_bytes"] = run.peak_rss_bytes;
   return j.dump(2) + "\n";

@@ -41,12 +41,12 @@ class AppendedWriter {
   uint64_t offset_ = 0;
 };
 
-template <class T>
-std::string array(AppendedWriter& w, const std::vector<T>& v, const char* type, const char* name, int components = 1) {
+template <class Vector>
+std::string array(AppendedWriter& w, const Vector& v, const char* type, const char* name, int components = 1) {
   // NumberOfComponents only for vectors: meshio reads a declared single component as a column.
   std::string comps = components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", components) : "";
   return fmt::format("<DataArray type=\"{}\" Name=\"{}\"{} {}/>\n", type, name, comps,
-                     w.add(v.data(), v.size() * sizeof(T)));
+                     w.add(v.data(), v.size() * sizeof(v[0])));
 }
 
 std::string version_numbers(std::string v) {

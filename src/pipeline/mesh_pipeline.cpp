@@ -1,5 +1,6 @@
 // The pipeline of one mesh: sample, cut cells, assemble, check. Each stage reports its time
 // and counts into the RunReport.
+#include <malloc.h>
 #include <omp.h>
 
 #include <chrono>
@@ -17,6 +18,8 @@
 namespace froth {
 namespace {
 
+}  // namespace
+
 size_t peak_rss_bytes() {
   std::ifstream status("/proc/self/status");
   std::string key;
@@ -30,6 +33,8 @@ size_t peak_rss_bytes() {
   }
   return 0;
 }
+
+namespace {
 
 class Stopwatch {
  public:
@@ -51,7 +56,7 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
   if (opt.weld != 0) fail(ErrorKind::Usage, "welding is not implemented yet: use --weld 0");
   const double cubes = domain.bounds.size().x * domain.bounds.size().y * domain.bounds.size().z /
                        std::pow(opt.r / std::sqrt(3.0), 3);
-  if (cubes > 2e9)
+  if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
     fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
 
@@ -70,8 +75,9 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
   Stopwatch total, watch;
   progress("sampling");
   Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
-  run.stages.push_back({"sampling", watch.lap()});
+  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
   run.sampling = sample.stats;
+  malloc_trim(0);  // hand the sampler's freed work lists back before the cells' peak
   if (sample.seeds.empty()) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", opt.r));
   if (sample.stats.uncovered_cubes > 0)
     fail(ErrorKind::Internal, fmt::format("sampling stopped at the finest level with {} uncovered cubes",
@@ -79,9 +85,9 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
 
   progress("cells");
   TessellationTimes tt;
-  PolyMesh mesh = build_voronoi_mesh(domain, sample, opt.r, &tt);
-  run.stages.push_back({"cells", tt.cells});
-  run.stages.push_back({"assembly", tt.assembly});
+  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
+  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
+  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   watch.lap();
 
   progress("validation");
@@ -89,7 +95,7 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
   MeshCheck check = check_mesh(mesh);
-  run.stages.push_back({"validation", watch.lap()});
+  run.stages.push_back({"validation", watch.lap(), peak_rss_bytes()});
   if (!check.ok())
     fail(ErrorKind::Internal, fmt::format("the mesh failed its checks ({} unmatched faces, {} open cells, {} "
                                           "non-positive cells); first: {}",

@@ -22,11 +22,29 @@
 namespace froth {
 namespace {
 
+// 16 bytes: the active lists are the sampler's largest memory.
 struct ActiveCube {
-  int64_t base;               // base cube index
-  uint32_t sx, sy, sz;        // sub-cube coordinates inside the base cube at the current level
-  uint32_t inside;            // 1 if the sub-cube lies entirely inside the domain
+  static constexpr uint32_t kInside = 0x80000000u;  // in sz_flags: entirely inside the domain
+  uint32_t base;              // base cube index (the pipeline keeps grids under 2^31 cubes)
+  uint32_t sx, sy;            // sub-cube coordinates inside the base cube at the current level
+  uint32_t sz_flags;          // sub-cube z coordinate, and kInside
+  uint32_t sz() const { return sz_flags & ~kInside; }
+  bool inside() const { return sz_flags & kInside; }
 };
+
+// Concatenates per-chunk results in chunk order, freeing each chunk as it goes.
+template <class T>
+std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
+  size_t total = 0;
+  for (const auto& p : parts) total += p.size();
+  std::vector<T> all;
+  all.reserve(total);
+  for (auto& p : parts) {
+    all.insert(all.end(), p.begin(), p.end());
+    std::vector<T>().swap(p);
+  }
+  return all;
+}
 
 struct Candidate {
   uint64_t time;
@@ -74,7 +92,9 @@ class Sampler {
       s_.stats.per_level.back().darts = s_.stats.darts - darts0;
       s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;
       if (level == tol::kMaxSamplingLevel) break;
-      active = refine(active, level);
+      std::vector<ActiveCube> next = refine(active, level);
+      std::vector<ActiveCube>().swap(active);
+      active = std::move(next);
 
       ++level;
     }
@@ -181,7 +201,7 @@ class Sampler {
     const auto& g = s_.grid;
     for (int64_t b = 0; b < int64_t(g.cube_count()); ++b) {
       int c = classify_box(base_origin(b), g.side);
-      if (c >= 0) cubes.push_back({b, 0, 0, 0, uint32_t(c)});
+      if (c >= 0) cubes.push_back({uint32_t(b), 0, 0, c > 0 ? ActiveCube::kInside : 0});
     }
     return cubes;
   }
@@ -204,14 +224,14 @@ class Sampler {
           seeds_near_box(base_origin(c.base), s_.grid.side, near);
         }
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
-        const uint64_t tag = (uint64_t(c.sz) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
+        const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
         int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]), kDartsPerCubePerRound);
         darts += n;
-        Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz * h};
+        Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
         for (int k = 0; k < n; ++k) {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
-          if (!c.inside && !domain_.contains(p)) continue;
+          if (!c.inside() && !domain_.contains(p)) continue;
           bool hit = false;
           for (Vec3 q : near) hit |= norm2(q - p) < r2_;
           if (hit) continue;
@@ -220,8 +240,7 @@ class Sampler {
       }
     }
     s_.stats.darts += darts;
-    std::vector<Candidate> all;
-    for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
+    std::vector<Candidate> all = concatenate(found);
     std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
       return a.time != b.time ? a.time < b.time : a.base < b.base;
     });
@@ -253,7 +272,7 @@ class Sampler {
           cached_base = c.base;
           seeds_near_box(base_origin(c.base), s_.grid.side, near_base);
         }
-        Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz * 2 * h};
+        Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz() * 2 * h};
         // Of the base cube's neighbours, those that may reach this cube.
         const Vec3 center = lo + Vec3{h, h, h};
         const double reach = r_ + h * std::sqrt(3.0);
@@ -264,19 +283,17 @@ class Sampler {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
           if (covered(clo, h, near)) continue;
-          uint32_t inside = c.inside;
+          uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
             int cls = classify_box(clo, h);
             if (cls < 0) continue;
-            inside = uint32_t(cls);
+            inside = cls > 0 ? ActiveCube::kInside : 0;
           }
-          kept[ch].push_back({c.base, 2 * c.sx + dx, 2 * c.sy + dy, 2 * c.sz + dz, inside});
+          kept[ch].push_back({c.base, 2 * c.sx + dx, 2 * c.sy + dy, (2 * c.sz() + dz) | inside});
         }
       }
     }
-    std::vector<ActiveCube> next;
-    for (auto& k : kept) next.insert(next.end(), k.begin(), k.end());
-    return next;
+    return concatenate(kept);
   }
 
   void order_seeds_by_cube() {

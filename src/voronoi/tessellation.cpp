@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "common/page_allocator.hpp"
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "voronoi/convex_cell.hpp"
@@ -28,21 +29,72 @@ namespace {
 
 constexpr size_t kCellsPerChunk = 2048;
 
-// Cells of one chunk as built, with vertex names; local vertex ids fit in a byte.
+// Cells of one chunk as built. Other cells read only the names of the vertices a cell owns;
+// everything else is read by the chunk itself during assembly and freed right after, which
+// keeps the peak memory of assembly low.
+template <class T>
+using PagedVector = std::vector<T, PageAllocator<T>>;
+
 struct CellChunk {
-  std::vector<uint32_t> vertex_begin{0};   // per cell, into key_len
-  std::vector<uint32_t> key_begin{0};      // per cell, into keys
-  std::vector<uint32_t> face_begin{0};     // per cell, into face_gen
-  std::vector<uint32_t> owned_begin{0};    // per cell, into owned_points
-  std::vector<uint8_t> key_len;            // per vertex
-  std::vector<int32_t> keys;               // sorted generator names, own seed included
-  std::vector<Vec3> owned_points;          // positions of the vertices this cell owns
-  std::vector<int32_t> face_gen;
-  std::vector<uint8_t> face_size;
-  std::vector<uint8_t> face_vert;          // local vertex ids
-  std::vector<CellKind> kinds;
+  // Read by other chunks (owner look-ups) until assembly ends.
+  PagedVector<uint32_t> owned_begin{0};      // per cell, into owned_key_len
+  PagedVector<uint32_t> owned_key_begin{0};  // per cell, into owned_keys
+  PagedVector<uint8_t> owned_key_len;        // per owned vertex
+  PagedVector<int32_t> owned_keys;           // sorted generator names, own seed left out
+  // Read by this chunk only.
+  PagedVector<uint32_t> vertex_begin{0};     // per cell, into vertex_info
+  PagedVector<uint8_t> vertex_info;          // per vertex: key length, top bit set if owned
+  PagedVector<int32_t> other_keys;           // names of the vertices owned by other cells
+  PagedVector<Vec3> owned_points;
+  PagedVector<uint32_t> face_begin{0};       // per cell, into face_gen
+  PagedVector<int32_t> face_gen;
+  PagedVector<uint8_t> face_size;
+  PagedVector<uint8_t> face_vert;            // local vertex ids
+  PagedVector<CellKind> kinds;
   size_t face_vertex_count = 0;
+
+  // Room for typical cells, generously: pages never touched cost no memory, and growth would
+  // copy.
+  void reserve(size_t cells) {
+    for (auto* v : {&owned_begin, &owned_key_begin, &vertex_begin, &face_begin}) v->reserve(cells + 1);
+    owned_key_len.reserve(cells * 16);
+    owned_keys.reserve(cells * 64);
+    vertex_info.reserve(cells * 64);
+    other_keys.reserve(cells * 192);
+    owned_points.reserve(cells * 16);
+    face_gen.reserve(cells * 40);
+    face_size.reserve(cells * 40);
+    face_vert.reserve(cells * 192);
+    kinds.reserve(cells);
+  }
+
+  void release_private() {
+    for (auto* v : {&vertex_begin, &face_begin}) PagedVector<uint32_t>().swap(*v);
+    for (auto* v : {&vertex_info, &face_size, &face_vert}) PagedVector<uint8_t>().swap(*v);
+    PagedVector<int32_t>().swap(other_keys);
+    PagedVector<int32_t>().swap(face_gen);
+    PagedVector<Vec3>().swap(owned_points);
+    PagedVector<CellKind>().swap(kinds);
+  }
 };
+
+constexpr uint8_t kOwnedBit = 0x80;
+
+int32_t owner_of(const int32_t* key, int len) {
+  return *std::find_if(key, key + len, [](int32_t g) { return g >= 0; });
+}
+
+// Do the names a + {self} and b + {owner} agree (each sorted, each without its own cell's
+// seed)? As owner is in a, that is a - {owner} == b - {self}, with self in b.
+bool same_vertex(const int32_t* a, int32_t self, const int32_t* b, int32_t owner, int len) {
+  int i = 0, j = 0;
+  for (;;) {
+    if (i < len && a[i] == owner) { ++i; continue; }
+    if (j < len && b[j] == self) { ++j; continue; }
+    if (i == len || j == len) return i == len && j == len;
+    if (a[i++] != b[j++]) return false;
+  }
+}
 
 struct Neighbour {
   double d2;
@@ -70,10 +122,9 @@ class CellBuilder {
     const double reach = 2 * r_ * (1 + 1e-9);
     sample_.grid.for_cubes_near(x, reach, [&](int64_t c) {
       int32_t j = sample_.cube_seed[c];
-      if (j >= 0 && j != i) {
-        double d2 = norm2(sample_.seeds[j] - x);
-        if (d2 <= reach * reach) nb.push_back({d2, j});
-      }
+      if (j < 0 || j == i) return;
+      double d2 = norm2(sample_.seeds[j] - x);
+      if (d2 <= reach * reach) nb.push_back({d2, j});
     });
     std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
       return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed;
@@ -115,10 +166,18 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell) {
     key[n++] = i;
     for (int a = 1; a < n; ++a)  // insertion sort: keys have 4 entries, rarely more
       for (int b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
-    ch.key_len.push_back(uint8_t(n));
-    ch.keys.insert(ch.keys.end(), key, key + n);
-    int32_t owner = *std::find_if(key, key + n, [](int32_t g) { return g >= 0; });
-    if (owner == i) ch.owned_points.push_back(x + vx.p);
+    const bool owned = owner_of(key, n) == i;
+    // Stored without the cell's own seed, which is implied.
+    std::remove(key, key + n, i);
+    --n;
+    ch.vertex_info.push_back(uint8_t(n | (owned ? kOwnedBit : 0)));
+    if (owned) {
+      ch.owned_key_len.push_back(uint8_t(n));
+      ch.owned_keys.insert(ch.owned_keys.end(), key, key + n);
+      ch.owned_points.push_back(x + vx.p);
+    } else {
+      ch.other_keys.insert(ch.other_keys.end(), key, key + n);
+    }
   }
   for (size_t f = 0; f < cell.face_count(); ++f) {
     int32_t g = cell.face_generator(f);
@@ -130,10 +189,10 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell) {
     ch.face_vertex_count += cell.face_size(f);
   }
   ch.kinds.push_back(fringe ? CellKind::Fringe : CellKind::Interior);
-  ch.vertex_begin.push_back(uint32_t(ch.key_len.size()));
-  ch.key_begin.push_back(uint32_t(ch.keys.size()));
+  ch.vertex_begin.push_back(uint32_t(ch.vertex_info.size()));
+  ch.owned_begin.push_back(uint32_t(ch.owned_key_len.size()));
+  ch.owned_key_begin.push_back(uint32_t(ch.owned_keys.size()));
   ch.face_begin.push_back(uint32_t(ch.face_gen.size()));
-  ch.owned_begin.push_back(uint32_t(ch.owned_points.size()));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -142,8 +201,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, double r, TessellationTimes* times) {
+PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double r, TessellationTimes* times) {
   auto t0 = std::chrono::steady_clock::now();
+  sample.buckets = SeedBuckets();  // cells gather neighbours from the (smaller) fine grid
   const size_t n = sample.seeds.size();
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
   std::vector<CellChunk> chunks(nchunks);
@@ -159,6 +219,7 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, do
 #pragma omp for schedule(dynamic, 1)
     for (size_t c = 0; c < nchunks; ++c) {
       CellChunk& ch = chunks[c];
+      ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
       for (size_t i = c * kCellsPerChunk; i < std::min(n, (c + 1) * kCellsPerChunk); ++i) {
         std::string err = builder.build(int32_t(i), cell, nb);
         if (!err.empty()) {
@@ -171,12 +232,14 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, do
     }
   }
   if (!first_error.empty()) fail(ErrorKind::Internal, first_error);
-  if (times) times->cells = seconds_since(t0);
+  if (times) times->cells = seconds_since(t0), times->cells_peak_rss = peak_rss_bytes();
   t0 = std::chrono::steady_clock::now();
 
   // Global numbering: owned vertices in seed order; faces and face vertices in cell order.
   PolyMesh mesh;
-  mesh.seeds = sample.seeds;
+  // The grid is not needed any more: free it before the peak.
+  std::vector<int32_t>().swap(sample.cube_seed);
+  mesh.seeds = std::move(sample.seeds);
   std::vector<int64_t> owned_base(n + 1, 0);
   std::vector<int64_t> chunk_face(nchunks + 1, 0), chunk_fv(nchunks + 1, 0);
   for (size_t c = 0; c < nchunks; ++c) {
@@ -202,42 +265,38 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, do
     std::vector<int32_t> gid;
 #pragma omp for schedule(dynamic, 1)
     for (size_t c = 0; c < nchunks; ++c) {
-      const CellChunk& ch = chunks[c];
+      CellChunk& ch = chunks[c];
       const size_t first = c * kCellsPerChunk;
       std::copy(ch.owned_points.begin(), ch.owned_points.end(), mesh.points.begin() + owned_base[first]);
       std::copy(ch.kinds.begin(), ch.kinds.end(), mesh.kinds.begin() + first);
       int64_t face = chunk_face[c], fv = chunk_fv[c];
-      size_t local_fv = 0;
+      size_t local_fv = 0, other = 0;
       for (size_t k = 0; k + 1 < ch.vertex_begin.size(); ++k) {
         const int32_t i = int32_t(first + k);
-        // Global id of each local vertex.
+        // Global id of each local vertex: its rank among the owner's owned vertices.
         gid.clear();
-        uint32_t kb = ch.key_begin[k];
         int32_t rank = 0;
         for (uint32_t v = ch.vertex_begin[k]; v < ch.vertex_begin[k + 1]; ++v) {
-          const int32_t* key = &ch.keys[kb];
-          const int len = ch.key_len[v];
-          kb += len;
-          const int32_t owner = *std::find_if(key, key + len, [](int32_t g) { return g >= 0; });
-          if (owner == i) {
+          const int len = ch.vertex_info[v] & ~kOwnedBit;
+          if (ch.vertex_info[v] & kOwnedBit) {
             gid.push_back(int32_t(owned_base[i] + rank++));
             continue;
           }
+          const int32_t* key = &ch.other_keys[other];
+          other += len;
+          // The owner is the smallest seed among the name and this cell; it is not this cell.
+          const int32_t owner = owner_of(key, len);
           const CellChunk& oc = chunks[owner / kCellsPerChunk];
           const size_t ok = owner % kCellsPerChunk;
-          uint32_t okb = oc.key_begin[ok];
-          int32_t orank = 0, found = -1;
-          for (uint32_t w = oc.vertex_begin[ok]; w < oc.vertex_begin[ok + 1]; ++w) {
-            const int32_t* okey = &oc.keys[okb];
-            const int olen = oc.key_len[w];
-            okb += olen;
-            const int32_t oowner = *std::find_if(okey, okey + olen, [](int32_t g) { return g >= 0; });
-            if (oowner != owner) continue;
-            if (olen == len && std::equal(key, key + len, okey)) {
-              found = int32_t(owned_base[owner] + orank);
+          uint32_t okb = oc.owned_key_begin[ok];
+          int32_t found = -1;
+          for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
+            const int olen = oc.owned_key_len[w];
+            if (olen == len && same_vertex(key, i, &oc.owned_keys[okb], owner, len)) {
+              found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
               break;
             }
-            ++orank;
+            okb += olen;
           }
           if (found < 0) unmatched.fetch_add(1, std::memory_order_relaxed);
           gid.push_back(std::max(found, 0));
@@ -250,6 +309,7 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, do
           ++face;
         }
       }
+      ch.release_private();
     }
   }
   if (unmatched > 0)

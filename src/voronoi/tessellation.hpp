@@ -8,11 +8,13 @@ namespace froth {
 
 struct TessellationTimes {
   double cells = 0;     // seconds computing cells
+  size_t cells_peak_rss = 0;  // peak resident memory after computing them
   double assembly = 0;  // seconds giving shared vertices one id
 };
 
 // Throws Error(Internal) if a cell cannot be closed by its neighbours (the sample is not maximal)
 // or two cells disagree on a shared vertex.
-PolyMesh build_voronoi_mesh(const ConvexDomain& domain, const Sample& sample, double r, TessellationTimes* times);
+// Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
+PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double r, TessellationTimes* times);
 
 }  // namespace froth
