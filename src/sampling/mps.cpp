@@ -59,12 +59,14 @@ constexpr int kRoundsLevel0 = 1;
 constexpr int kRoundsPerLevel = 1;
 constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
 
-int poisson(double u, double mean) {
-  double p = std::exp(-mean), cdf = p;
+// Inverse CDF of the Poisson law with mean kDartsPerCubePerRound.
+int poisson(double u) {
+  static const double p0 = std::exp(-kDartsPerCubePerRound);
+  double p = p0, cdf = p;
   int k = 0;
   while (u > cdf && k < 64) {
     ++k;
-    p *= mean / k;
+    p *= kDartsPerCubePerRound / k;
     cdf += p;
   }
   return k;
@@ -219,14 +221,15 @@ class Sampler {
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
         if (s_.cube_seed[c.base] >= 0) continue;
+        const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
+        const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
+        int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]));
+        if (n == 0) continue;
+        darts += n;
         if (c.base != near_base) {  // sub-cubes of one base cube are adjacent in the list
           near_base = c.base;
           seeds_near_box(base_origin(c.base), s_.grid.side, near);
         }
-        const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
-        const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
-        int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]), kDartsPerCubePerRound);
-        darts += n;
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
         for (int k = 0; k < n; ++k) {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
