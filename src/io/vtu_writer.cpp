@@ -3,6 +3,7 @@
 // function of the mesh and the run parameters: no time stamps, no host names.
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -15,38 +16,64 @@ namespace {
 
 constexpr uint8_t kVtkPolyhedron = 42;
 
-struct Block {
-  const void* data;
-  uint64_t bytes;
-};
-
-class AppendedWriter {
+// Appended raw data: each block is a UInt64 byte count and the bytes. Blocks are produced by
+// callbacks that stream their values, so no array is materialised beyond the mesh itself.
+class AppendedBlocks {
  public:
+  using Producer = std::function<void(std::ostream&)>;
   // Registers a block and returns the XML attribute text for its offset.
-  std::string add(const void* data, uint64_t bytes) {
+  std::string add(uint64_t bytes, Producer produce) {
     std::string attr = fmt::format("format=\"appended\" offset=\"{}\"", offset_);
-    blocks_.push_back({data, bytes});
+    blocks_.push_back({bytes, std::move(produce)});
     offset_ += sizeof(uint64_t) + bytes;
     return attr;
   }
   void write(std::ostream& out) const {
-    for (const Block& b : blocks_) {
-      out.write(reinterpret_cast<const char*>(&b.bytes), sizeof b.bytes);
-      out.write(static_cast<const char*>(b.data), std::streamsize(b.bytes));
+    for (const auto& [bytes, produce] : blocks_) {
+      out.write(reinterpret_cast<const char*>(&bytes), sizeof bytes);
+      produce(out);
     }
   }
 
  private:
-  std::vector<Block> blocks_;
+  std::vector<std::pair<uint64_t, Producer>> blocks_;
   uint64_t offset_ = 0;
 };
 
-template <class Vector>
-std::string array(AppendedWriter& w, const Vector& v, const char* type, const char* name, int components = 1) {
+// Buffers small writes of one type.
+template <class T>
+class ValueWriter {
+ public:
+  explicit ValueWriter(std::ostream& out) : out_(out) { buf_.reserve(kSize); }
+  ~ValueWriter() { flush(); }
+  void put(T v) {
+    buf_.push_back(v);
+    if (buf_.size() == kSize) flush();
+  }
+  void flush() {
+    out_.write(reinterpret_cast<const char*>(buf_.data()), std::streamsize(buf_.size() * sizeof(T)));
+    buf_.clear();
+  }
+
+ private:
+  static constexpr size_t kSize = 1 << 16;
+  std::ostream& out_;
+  std::vector<T> buf_;
+};
+
+std::string data_array(AppendedBlocks& w, uint64_t bytes, AppendedBlocks::Producer p, const char* type,
+                       const char* name, int components = 1) {
   // NumberOfComponents only for vectors: meshio reads a declared single component as a column.
   std::string comps = components > 1 ? fmt::format(" NumberOfComponents=\"{}\"", components) : "";
-  return fmt::format("<DataArray type=\"{}\" Name=\"{}\"{} {}/>\n", type, name, comps,
-                     w.add(v.data(), v.size() * sizeof(v[0])));
+  return fmt::format("<DataArray type=\"{}\" Name=\"{}\"{} {}/>\n", type, name, comps, w.add(bytes, std::move(p)));
+}
+
+template <class Vector>
+std::string raw_array(AppendedBlocks& w, const Vector& v, const char* type, const char* name, int components = 1) {
+  const uint64_t bytes = v.size() * sizeof(v[0]);
+  return data_array(
+      w, bytes, [&v, bytes](std::ostream& out) { out.write(reinterpret_cast<const char*>(v.data()), std::streamsize(bytes)); },
+      type, name, components);
 }
 
 std::string version_numbers(std::string v) {
@@ -54,33 +81,36 @@ std::string version_numbers(std::string v) {
   return v;
 }
 
+// Each cell's distinct points, sorted (VTK's cell connectivity for a polyhedron).
+void cell_points(const PolyMesh& m, size_t c, std::vector<int32_t>& pts) {
+  pts.assign(m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c]],
+             m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c + 1]]);
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+}
+
 }  // namespace
 
 void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::path& path) {
   const size_t n = m.cell_count();
-  // Each cell's distinct points (VTK's cell connectivity) and its face stream.
-  std::vector<int64_t> connectivity, offsets(n), faces, faceoffsets(n);
-  std::vector<uint8_t> types(n, kVtkPolyhedron);
-  std::vector<int32_t> kind(n);
-  std::vector<int32_t> pts;
-  for (size_t c = 0; c < n; ++c) {
-    pts.assign(m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c]],
-               m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c + 1]]);
-    std::sort(pts.begin(), pts.end());
-    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-    connectivity.insert(connectivity.end(), pts.begin(), pts.end());
-    offsets[c] = int64_t(connectivity.size());
-    faces.push_back(m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
-    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-      faces.push_back(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
-      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) faces.push_back(m.face_vertices[k]);
-    }
-    faceoffsets[c] = int64_t(faces.size());
-    kind[c] = int32_t(m.kinds[c]);
-  }
   static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  // Sizes first (the XML header holds every block's offset), values streamed afterwards.
+  std::vector<uint16_t> npts(n);
+  uint64_t connectivity = 0;
+#pragma omp parallel
+  {
+    std::vector<int32_t> pts;
+#pragma omp for schedule(static) reduction(+ : connectivity)
+    for (size_t c = 0; c < n; ++c) {
+      cell_points(m, c, pts);
+      npts[c] = uint16_t(pts.size());
+      connectivity += pts.size();
+    }
+  }
+  // faces: per cell its face count, then per face its size and vertex ids.
+  const uint64_t faces = n + m.face_count() + m.face_vertices.size();
 
-  AppendedWriter w;
+  AppendedBlocks w;
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
@@ -93,14 +123,67 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
                      version_numbers(FROTH_VERSION))
       << "</FieldData>\n"
       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.points.size(), n)
-      << "<Points>\n" << array(w, m.points, "Float64", "Points", 3) << "</Points>\n"
-      << "<Cells>\n"
-      << array(w, connectivity, "Int64", "connectivity") << array(w, offsets, "Int64", "offsets")
-      << array(w, types, "UInt8", "types") << array(w, faces, "Int64", "faces")
-      << array(w, faceoffsets, "Int64", "faceoffsets") << "</Cells>\n"
-      << "<CellData>\n"
-      << array(w, m.seeds, "Float64", "seed", 3) << array(w, kind, "Int32", "kind")
-      << array(w, m.volumes, "Float64", "volume") << "</CellData>\n"
+      << "<Points>\n" << raw_array(w, m.points, "Float64", "Points", 3) << "</Points>\n<Cells>\n";
+  xml << data_array(
+      w, connectivity * 8,
+      [&](std::ostream& out) {
+        ValueWriter<int64_t> vw(out);
+        std::vector<int32_t> pts;
+        for (size_t c = 0; c < n; ++c) {
+          cell_points(m, c, pts);
+          for (int32_t p : pts) vw.put(p);
+        }
+      },
+      "Int64", "connectivity");
+  xml << data_array(
+      w, n * 8,
+      [&](std::ostream& out) {
+        ValueWriter<int64_t> vw(out);
+        int64_t end = 0;
+        for (size_t c = 0; c < n; ++c) vw.put(end += npts[c]);
+      },
+      "Int64", "offsets");
+  xml << data_array(
+      w, n,
+      [&](std::ostream& out) {
+        ValueWriter<uint8_t> vw(out);
+        for (size_t c = 0; c < n; ++c) vw.put(kVtkPolyhedron);
+      },
+      "UInt8", "types");
+  xml << data_array(
+      w, faces * 8,
+      [&](std::ostream& out) {
+        ValueWriter<int64_t> vw(out);
+        for (size_t c = 0; c < n; ++c) {
+          vw.put(m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
+          for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+            vw.put(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
+            for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) vw.put(m.face_vertices[k]);
+          }
+        }
+      },
+      "Int64", "faces");
+  xml << data_array(
+      w, n * 8,
+      [&](std::ostream& out) {
+        ValueWriter<int64_t> vw(out);
+        int64_t end = 0;
+        for (size_t c = 0; c < n; ++c) {
+          end += 1 + (m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
+          end += m.face_vertex_begin[m.cell_face_begin[c + 1]] - m.face_vertex_begin[m.cell_face_begin[c]];
+          vw.put(end);
+        }
+      },
+      "Int64", "faceoffsets");
+  xml << "</Cells>\n<CellData>\n" << raw_array(w, m.seeds, "Float64", "seed", 3);
+  xml << data_array(
+      w, n * 4,
+      [&](std::ostream& out) {
+        ValueWriter<int32_t> vw(out);
+        for (CellKind k : m.kinds) vw.put(int32_t(k));
+      },
+      "Int32", "kind");
+  xml << raw_array(w, m.volumes, "Float64", "volume") << "</CellData>\n"
       << "</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
   write_atomically(path, [&](std::ostream& out) {
     out << xml.str();
