@@ -27,12 +27,13 @@ bool is_reversed_twin(const PolyMesh& m, int64_t f, int64_t g) {
   int64_t fb = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - fb;
   int64_t gb = m.face_vertex_begin[g];
   if (m.face_vertex_begin[g + 1] - gb != n) return false;
-  int64_t start = -1;
-  for (int64_t k = 0; k < n; ++k)
-    if (m.face_vertices[gb + k] == m.face_vertices[fb]) start = k;
-  if (start < 0) return false;
-  for (int64_t k = 0; k < n; ++k)
-    if (m.face_vertices[fb + k] != m.face_vertices[gb + ((start - k) % n + n) % n]) return false;
+  int64_t j = 0;
+  while (j < n && m.face_vertices[gb + j] != m.face_vertices[fb]) ++j;
+  if (j == n) return false;
+  for (int64_t k = 1; k < n; ++k) {  // walk g backwards from the shared start
+    j = j == 0 ? n - 1 : j - 1;
+    if (m.face_vertices[fb + k] != m.face_vertices[gb + j]) return false;
+  }
   return true;
 }
 
@@ -45,14 +46,15 @@ MeshCheck check_mesh(const PolyMesh& m) {
   size_t unmatched = 0, open = 0, nonpositive = 0;
 #pragma omp parallel
   {
-    std::vector<std::pair<int32_t, int32_t>> edges;
+    std::vector<uint64_t> edges;  // directed edge (a, b) as a << 32 | b
 #pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive)
     for (size_t c = 0; c < m.cell_count(); ++c) {
       std::string problem;
       edges.clear();
       for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
         int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-        for (int64_t k = b; k < e; ++k) edges.push_back({m.face_vertices[k], m.face_vertices[k + 1 < e ? k + 1 : b]});
+        for (int64_t k = b; k < e; ++k)
+          edges.push_back(uint64_t(uint32_t(m.face_vertices[k])) << 32 | uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b]));
         int32_t g = m.face_generator[f];
         if (g < 0) continue;
         bool twin = false;
@@ -66,7 +68,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
       // Closed: every directed edge is matched by its reverse exactly once.
       std::sort(edges.begin(), edges.end());
       bool closed = std::adjacent_find(edges.begin(), edges.end()) == edges.end();
-      for (auto [a, b] : edges) closed = closed && std::binary_search(edges.begin(), edges.end(), std::pair{b, a});
+      for (uint64_t ab : edges) closed = closed && std::binary_search(edges.begin(), edges.end(), ab << 32 | ab >> 32);
       if (!closed) {
         ++open;
         if (problem.empty()) problem = fmt::format("cell {}: faces do not close", c);

@@ -6,17 +6,8 @@ namespace froth {
 
 void ConvexCell::reset_cube(double h) {
   verts_.clear();
-  overflow_ = false;
   // Corner c has coordinates (±h) by bits of c; faces -x,+x,-y,+y,-z,+z are generators 0..5.
-  for (int c = 0; c < 8; ++c) {
-    Vertex v;
-    v.p = {(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h};
-    v.ngen = 3;
-    v.gen[0] = kCubeGenerator + ((c & 1) ? 1 : 0);
-    v.gen[1] = kCubeGenerator + ((c & 2) ? 3 : 2);
-    v.gen[2] = kCubeGenerator + ((c & 4) ? 5 : 4);
-    verts_.push_back(v);
-  }
+  for (int c = 0; c < 8; ++c) verts_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
   static constexpr uint16_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
                                            {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   face_gen_.clear();
@@ -29,29 +20,15 @@ void ConvexCell::reset_cube(double h) {
   }
 }
 
-void ConvexCell::add_generator(Vertex& v, int32_t g) {
-  if (v.has(g)) return;
-  if (v.ngen < kMaxGenerators) v.gen[v.ngen++] = g;
-}
-
 // a is the inner end point, b the outer one.
-uint16_t ConvexCell::cut_vertex(uint16_t a, uint16_t b, int32_t generator) {
+uint16_t ConvexCell::cut_vertex(uint16_t a, uint16_t b) {
   const uint16_t lo = std::min(a, b), hi = std::max(a, b);
   for (const CutEdge& c : cuts_)
     if (c.a == lo && c.b == hi) return c.v;
-  const Vertex& va = verts_[a];
-  const Vertex& vb = verts_[b];
-  Vertex v;
   // Interpolated from the inner end point; the memo gives both faces of the edge one vertex.
-  double t = dist_[a] / (dist_[a] - dist_[b]);
-  v.p = va.p + t * (vb.p - va.p);
-  // The edge lies on the planes its two end points share.
-  for (int i = 0; i < va.ngen; ++i)
-    if (vb.has(va.gen[i])) v.gen[v.ngen++] = va.gen[i];
-  if (v.ngen == kMaxGenerators) overflow_ = true;
-  else v.gen[v.ngen++] = generator;
-  uint16_t id = uint16_t(verts_.size());
-  verts_.push_back(v);
+  const double t = dist_[a] / (dist_[a] - dist_[b]);
+  const uint16_t id = uint16_t(verts_.size());
+  verts_.push_back(verts_[a] + t * (verts_[b] - verts_[a]));
   cuts_.push_back({lo, hi, id});
   return id;
 }
@@ -62,19 +39,14 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   side_.resize(nv);
   bool any_out = false, any_in = false;
   for (size_t v = 0; v < nv; ++v) {
-    double s = dot(n, verts_[v].p) - offset;
+    double s = dot(n, verts_[v]) - offset;
     dist_[v] = s;
     Side sd = s > eps ? Out : (s < -eps ? In : On);
     side_[v] = sd;
     any_out |= sd == Out;
     any_in |= sd == In;
   }
-  if (!any_out) {
-    // The plane may still touch the cell: vertices on it gain the generator.
-    for (size_t v = 0; v < nv; ++v)
-      if (side_[v] == On) add_generator(verts_[v], generator);
-    return Clip::Unchanged;
-  }
+  if (!any_out) return Clip::Unchanged;
   if (!any_in) return Clip::Empty;
 
   cuts_.clear();
@@ -100,11 +72,11 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
       Side su = side_[u], sw = side_[w];
       if (su != Out) new_vert_.push_back(u);
       if (su != Out && sw == Out) {
-        exit_v = su == On ? u : cut_vertex(u, w, generator);
+        exit_v = su == On ? u : cut_vertex(u, w);
         if (su == In) new_vert_.push_back(exit_v);
         ++exits;
       } else if (su == Out && sw != Out) {
-        entry_v = sw == On ? w : cut_vertex(w, u, generator);
+        entry_v = sw == On ? w : cut_vertex(w, u);
         if (sw == In) new_vert_.push_back(entry_v);
         ++entries;
       }
@@ -134,9 +106,6 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   new_gen_.push_back(generator);
   new_start_.push_back(uint32_t(new_vert_.size()));
 
-  for (size_t v = 0; v < nv; ++v)
-    if (side_[v] == On) add_generator(verts_[v], generator);
-
   // Drop the vertices outside and renumber.
   remap_.assign(verts_.size(), -1);
   size_t kept = 0;
@@ -150,13 +119,13 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   face_gen_.swap(new_gen_);
   face_start_.swap(new_start_);
   face_vert_.swap(new_vert_);
-  if (overflow_ || verts_.size() > 0xFFFF) return Clip::Failed;
+  if (verts_.size() > 0xFFFF) return Clip::Failed;
   return Clip::Cut;
 }
 
 double ConvexCell::max_radius2() const {
   double m = 0;
-  for (const Vertex& v : verts_) m = std::max(m, norm2(v.p));
+  for (Vec3 v : verts_) m = std::max(m, norm2(v));
   return m;
 }
 
@@ -164,10 +133,21 @@ double ConvexCell::volume() const {
   double v6 = 0;
   for (size_t f = 0; f < face_count(); ++f) {
     const uint16_t* fv = face_begin(f);
-    Vec3 a = verts_[fv[0]].p;
-    for (size_t i = 1; i + 1 < face_size(f); ++i) v6 += dot(a, cross(verts_[fv[i]].p, verts_[fv[i + 1]].p));
+    Vec3 a = verts_[fv[0]];
+    for (size_t i = 1; i + 1 < face_size(f); ++i) v6 += dot(a, cross(verts_[fv[i]], verts_[fv[i + 1]]));
   }
   return v6 / 6;
+}
+
+bool ConvexCell::vertex_names(std::vector<Names>& names) const {
+  names.assign(verts_.size(), Names{});
+  for (size_t f = 0; f < face_count(); ++f)
+    for (size_t k = 0; k < face_size(f); ++k) {
+      Names& nm = names[face_begin(f)[k]];
+      if (nm.n == kMaxGenerators) return false;
+      nm.gen[nm.n++] = face_gen_[f];
+    }
+  return true;
 }
 
 }  // namespace froth

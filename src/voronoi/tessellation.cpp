@@ -107,7 +107,8 @@ class CellBuilder {
       : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {}
 
   // Builds cell i into `cell`; returns an empty string or what went wrong.
-  std::string build(int32_t i, ConvexCell& cell, std::vector<Neighbour>& nb) const {
+  std::string build(int32_t i, ConvexCell& cell, std::vector<Neighbour>& nb,
+                    std::vector<ConvexCell::Names>& names) const {
     const Vec3 x = sample_.seeds[i];
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
     cell.reset_cube(half);
@@ -144,6 +145,8 @@ class CellBuilder {
         return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
                            i, x.x, x.y, x.z);
     if (cell.vertex_count() > 255) return fmt::format("cell {} has {} vertices", i, cell.vertex_count());
+    if (!cell.vertex_names(names))
+      return fmt::format("cell {}: a vertex lies on more than {} faces", i, ConvexCell::kMaxGenerators);
     return {};
   }
 
@@ -156,13 +159,13 @@ class CellBuilder {
   double r_, eps_;
 };
 
-void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell) {
+void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell,
+                 const std::vector<ConvexCell::Names>& names) {
   int32_t key[ConvexCell::kMaxGenerators + 1];
   bool fringe = false;
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
-    const auto& vx = cell.vertex(v);
-    int n = vx.ngen;
-    std::copy(vx.gen, vx.gen + n, key);
+    int n = names[v].n;
+    std::copy(names[v].gen, names[v].gen + n, key);
     key[n++] = i;
     for (int a = 1; a < n; ++a)  // insertion sort: keys have 4 entries, rarely more
       for (int b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
@@ -174,7 +177,7 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell) {
     if (owned) {
       ch.owned_key_len.push_back(uint8_t(n));
       ch.owned_keys.insert(ch.owned_keys.end(), key, key + n);
-      ch.owned_points.push_back(x + vx.p);
+      ch.owned_points.push_back(x + cell.vertex(v));
     } else {
       ch.other_keys.insert(ch.other_keys.end(), key, key + n);
     }
@@ -216,18 +219,19 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double 
   {
     ConvexCell cell;
     std::vector<Neighbour> nb;
+    std::vector<ConvexCell::Names> names;
 #pragma omp for schedule(dynamic, 1)
     for (size_t c = 0; c < nchunks; ++c) {
       CellChunk& ch = chunks[c];
       ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
       for (size_t i = c * kCellsPerChunk; i < std::min(n, (c + 1) * kCellsPerChunk); ++i) {
-        std::string err = builder.build(int32_t(i), cell, nb);
+        std::string err = builder.build(int32_t(i), cell, nb, names);
         if (!err.empty()) {
           std::lock_guard lock(error_mutex);
           if (i < first_bad) first_bad = i, first_error = err;
           break;
         }
-        append_cell(ch, int32_t(i), sample.seeds[i], cell);
+        append_cell(ch, int32_t(i), sample.seeds[i], cell, names);
       }
     }
   }
