@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "common/random.hpp"
 #include "common/tolerances.hpp"
@@ -185,27 +186,80 @@ class Sampler {
     return true;
   }
 
-  // -1 outside, 0 cut by the boundary, 1 inside.
-  int classify_box(Vec3 lo, double h) const {
+  // -1 outside, 0 cut by the boundary, 1 inside, with respect to the given planes; `cut`
+  // (optional) receives the planes that cut the box.
+  template <class PlaneIds>
+  int classify_box(Vec3 lo, double h, const PlaneIds& ids, std::vector<int32_t>* cut = nullptr) const {
     bool inside = true;
-    for (const Plane& pl : domain_.planes) {
+    for (int32_t id : ids) {
+      const Plane& pl = domain_.planes[id];
       // Extreme corners of the box along the plane normal.
       double dmin = pl.signed_distance(lo), dmax = dmin;
       for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
       if (dmin > 0) return -1;
-      if (dmax > 0) inside = false;
+      if (dmax > 0) {
+        inside = false;
+        if (cut) cut->push_back(id);
+      }
     }
     return inside ? 1 : 0;
   }
 
-  std::vector<ActiveCube> initial_cubes() const {
-    std::vector<ActiveCube> cubes;
+  // The planes cutting base cube b (which must be a boundary cube).
+  std::span<const int32_t> cutting_planes(uint32_t b) const {
+    auto it = std::lower_bound(boundary_base_.begin(), boundary_base_.end(), b);
+    size_t k = size_t(it - boundary_base_.begin());
+    return {boundary_planes_.data() + boundary_begin_[k], boundary_begin_[k + 1] - boundary_begin_[k]};
+  }
+
+  bool inside_domain(Vec3 p, uint32_t base) const {
+    for (int32_t id : cutting_planes(base))
+      if (domain_.planes[id].signed_distance(p) > 0) return false;
+    return true;
+  }
+
+  // Base cubes not outside the domain, and for those cut by the boundary the planes that cut
+  // them. Blocks of 8^3 cubes are classified first, so a cube is tested only against the few
+  // planes that cut its block.
+  std::vector<ActiveCube> initial_cubes() {
     const auto& g = s_.grid;
-    for (int64_t b = 0; b < int64_t(g.cube_count()); ++b) {
-      int c = classify_box(base_origin(b), g.side);
-      if (c >= 0) cubes.push_back({uint32_t(b), 0, 0, c > 0 ? ActiveCube::kInside : 0});
+    constexpr int B = 8;
+    const int bx = (g.nx + B - 1) / B, by = (g.ny + B - 1) / B, bz = (g.nz + B - 1) / B;
+    const size_t blocks = size_t(bx) * by * bz;
+    std::vector<std::vector<ActiveCube>> cubes(blocks);
+    std::vector<std::vector<std::pair<uint32_t, int32_t>>> cuts(blocks);
+    std::vector<int32_t> all(domain_.planes.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = int32_t(i);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t blk = 0; blk < blocks; ++blk) {
+      const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = int(blk / (size_t(bx) * by)) * B;
+      std::vector<int32_t> block_cut, cube_cut;
+      // The block as a cube of side B * side (it may stick out of the grid: harmless).
+      int cls = classify_box(g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side}, B * g.side, all, &block_cut);
+      if (cls < 0) continue;
+      for (int k = k0; k < std::min(k0 + B, g.nz); ++k)
+        for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
+          for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
+            const uint32_t b = uint32_t(g.index(i, j, k));
+            cube_cut.clear();
+            int c = cls > 0 ? 1 : classify_box(base_origin(b), g.side, block_cut, &cube_cut);
+            if (c < 0) continue;
+            cubes[blk].push_back({b, 0, 0, c > 0 ? ActiveCube::kInside : 0});
+            for (int32_t id : cube_cut) cuts[blk].push_back({b, id});
+          }
     }
-    return cubes;
+    std::vector<std::pair<uint32_t, int32_t>> pairs = concatenate(cuts);
+    std::sort(pairs.begin(), pairs.end());
+    boundary_begin_.assign(1, 0);
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      if (k == 0 || pairs[k].first != pairs[k - 1].first) {
+        if (k > 0) boundary_begin_.push_back(uint32_t(k));
+        boundary_base_.push_back(pairs[k].first);
+      }
+      boundary_planes_.push_back(pairs[k].second);
+    }
+    boundary_begin_.push_back(uint32_t(pairs.size()));
+    return concatenate(cubes);
   }
 
   void throw_round(std::vector<ActiveCube>& active, int level, int round) {
@@ -234,7 +288,7 @@ class Sampler {
         for (int k = 0; k < n; ++k) {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
-          if (!c.inside() && !domain_.contains(p)) continue;
+          if (!c.inside() && !inside_domain(p, c.base)) continue;
           bool hit = false;
           for (Vec3 q : near) hit |= norm2(q - p) < r2_;
           if (hit) continue;
@@ -288,7 +342,7 @@ class Sampler {
           if (covered(clo, h, near)) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
-            int cls = classify_box(clo, h);
+            int cls = classify_box(clo, h, cutting_planes(c.base));
             if (cls < 0) continue;
             inside = cls > 0 ? ActiveCube::kInside : 0;
           }
@@ -314,6 +368,9 @@ class Sampler {
   }
 
   const ConvexDomain& domain_;
+  // Boundary base cubes (sorted) and, for each, the domain planes that cut it.
+  std::vector<uint32_t> boundary_base_, boundary_begin_;
+  std::vector<int32_t> boundary_planes_;
   double r_, r2_;
   CounterRng rng_;
   Sample s_;
