@@ -70,9 +70,9 @@ int main(int argc, char** argv) {
   froth::ConvexDomain cube = froth::make_box_domain({0, 0, 0}, {1, 1, 1});
 
   fmt::print("froth pipeline on the unit cube, {} threads; voro++ (1 thread) on the same seeds\n", threads);
-  fmt::print("{:>9} {:>8} | {:>8} {:>10} | {:>8} {:>8} {:>8} {:>9} {:>8} | {:>9} {:>8} {:>8} | {:>7}\n", "cells", "r",
-             "sample s", "seeds/s", "cells s", "assem s", "check s", "total s", "us/cell", "peak MiB", "B/cell",
-             "voro++ s", "ratio");
+  fmt::print("{:>9} {:>8} | {:>8} {:>10} | {:>8} {:>10} {:>8} {:>8} {:>9} {:>8} | {:>9} {:>8} | {:>8} {:>7}\n",
+             "cells", "r", "sample s", "seeds/s", "cells s", "cells/s", "assem s", "check s", "total s", "us/cell",
+             "peak MiB", "B/cell", "voro++ s", "ratio");
   for (double target : sizes) {
     const double r = radius_for(target);
     reset_peak_rss();
@@ -95,13 +95,14 @@ int main(int argc, char** argv) {
     auto [voro_s, voro_vol] = voro_cells(mesh.seeds);
     if (std::abs(voro_vol - 1) > 1e-8) fmt::print(stderr, "voro++ volume sum {} != 1\n", voro_vol);
     const double n = double(run.cells);
-    fmt::print("{:>9} {:>8.5f} | {:>8.3f} {:>10.0f} | {:>8.3f} {:>8.3f} {:>8.3f} {:>9.3f} {:>8.2f} | {:>9.1f} {:>8.0f} "
-               "{:>8.3f} | {:>7.2f}\n",
-               run.cells, r, stage("sampling"), n / stage("sampling"), stage("cells"), stage("assembly"),
-               stage("validation"), total, 1e6 * total / n, peak_kib / 1024.0, (peak_kib - base_kib) * 1024.0 / n,
-               voro_s, total / voro_s);
+    fmt::print("{:>9} {:>8.5f} | {:>8.3f} {:>10.0f} | {:>8.3f} {:>10.0f} {:>8.3f} {:>8.3f} {:>9.3f} {:>8.2f} | {:>9.1f} "
+               "{:>8.0f} | {:>8.3f} {:>7.2f}\n",
+               run.cells, r, stage("sampling"), n / stage("sampling"), stage("cells"), n / stage("cells"),
+               stage("assembly"), stage("validation"), total, 1e6 * total / n, peak_kib / 1024.0,
+               (peak_kib - base_kib) * 1024.0 / n, voro_s, total / voro_s);
     std::fflush(stdout);
   }
-  fmt::print("total s = sampling + cells + assembly + check (file writing excluded); ratio = froth total / voro++;\n"
-             "B/cell = (peak RSS during the run - RSS before it) / cells.\n");
+  fmt::print("total s = sampling + cells + assembly + check (file writing excluded); cells/s = cells stage only;\n"
+             "ratio = froth total ({} threads) / voro++ cells (1 thread); B/cell = (peak RSS of the run - RSS before) / cells.\n",
+             threads);
 }
