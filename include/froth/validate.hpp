@@ -15,6 +15,7 @@ struct MeshCheck {
   bool ok() const { return unmatched_faces == 0 && open_cells == 0 && nonpositive_cells == 0; }
 };
 
+// Uses mesh.volumes when they are filled in (one per cell), else computes the volumes.
 MeshCheck check_mesh(const PolyMesh& mesh);
 
 // Signed volume of cell c from the mesh's points (divergence theorem, faces fanned).

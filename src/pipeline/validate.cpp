@@ -73,7 +73,8 @@ MeshCheck check_mesh(const PolyMesh& m) {
         ++open;
         if (problem.empty()) problem = fmt::format("cell {}: faces do not close", c);
       }
-      if (!(cell_volume(m, c) > 0)) {
+      const double volume = m.volumes.size() == m.cell_count() ? m.volumes[c] : cell_volume(m, c);
+      if (!(volume > 0)) {
         ++nonpositive;
         if (problem.empty()) problem = fmt::format("cell {}: volume is not positive", c);
       }
