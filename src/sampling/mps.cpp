@@ -142,14 +142,33 @@ class Sampler {
   // of their bisector is a convex polytope, inside ball A iff its vertices are (the cube corners
   // on A's side and the cube edges' crossings of the bisector), and likewise for B. Which two
   // balls: the nearest seeds of the cube's corners, when there are only two.
-  bool covered(Vec3 lo, double h, const std::vector<Vec3>& near) const {
-    for (Vec3 q : near) {
-      // The corner farthest from q is within r: the whole cube is in q's ball.
-      double fx = std::max(std::abs(q.x - lo.x), std::abs(lo.x + h - q.x));
-      double fy = std::max(std::abs(q.y - lo.y), std::abs(lo.y + h - q.y));
-      double fz = std::max(std::abs(q.z - lo.z), std::abs(lo.z + h - q.z));
-      if (fx * fx + fy * fy + fz * fz <= r2_) return true;
+  // Per seed, the squared distance along each axis from the seed to the farther face of each
+  // half of the parent: far2[s][axis][half]. A child is in seed s's ball iff the sum over axes
+  // for its halves is within r^2 (its farthest corner is).
+  struct FarthestFaces {
+    std::vector<std::array<double, 6>> far2;
+    void build(Vec3 lo, double h, const std::vector<Vec3>& near) {
+      far2.resize(near.size());
+      for (size_t s = 0; s < near.size(); ++s)
+        for (int a = 0; a < 3; ++a) {
+          const double q = near[s][a], l = lo[a];
+          const double f0 = std::max(q - l, l + h - q), f1 = std::max(q - l - h, l + 2 * h - q);
+          far2[s][2 * a] = f0 * f0;
+          far2[s][2 * a + 1] = f1 * f1;
+        }
     }
+  };
+
+  // Is the cube [lo, lo + h]^3, child (dx, dy, dz) of the parent described by `ff`, inside the
+  // union of the r-balls around `near`? Exact for one ball (the farthest corner is within r)
+  // and for two balls A, B: the cube's part on A's side of their bisector is a convex polytope,
+  // inside ball A iff its vertices are (the cube corners on A's side and the cube edges'
+  // crossings of the bisector), and likewise for B. Which two balls: the nearest seeds of the
+  // cube's corners, when there are only two.
+  bool covered(Vec3 lo, double h, const std::vector<Vec3>& near, const FarthestFaces& ff, int dx, int dy,
+               int dz) const {
+    for (const auto& f : ff.far2)
+      if (f[dx] + f[2 + dy] + f[4 + dz] <= r2_) return true;
     Vec3 corner[8];
     int nearest[8];
     int a = -1, b = -1;
@@ -320,6 +339,7 @@ class Sampler {
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t ch = 0; ch < chunks; ++ch) {
       std::vector<Vec3> near_base, near;
+      FarthestFaces ff;
       int64_t cached_base = -1;
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
@@ -336,10 +356,11 @@ class Sampler {
         near.clear();
         for (Vec3 q : near_base)
           if (norm2(q - center) < reach * reach) near.push_back(q);
+        ff.build(lo, h, near);
         for (uint32_t child = 0; child < 8; ++child) {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
-          if (covered(clo, h, near)) continue;
+          if (covered(clo, h, near, ff, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
             int cls = classify_box(clo, h, cutting_planes(c.base));
