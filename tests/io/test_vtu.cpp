@@ -1,7 +1,12 @@
 // The VTU writer: deterministic bytes, atomic replacement, and errors for unwritable paths.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <filesystem>
+#include <thread>
 #include <fstream>
 #include <sstream>
 
@@ -35,6 +40,52 @@ TEST(Vtu, SameSeedGivesIdenticalBytesForOneAndTwoThreads) {
   EXPECT_NE(ba.find("Name=\"faceoffsets\""), std::string::npos);
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// Renaming a temporary file over a device or pipe would replace it (it once replaced /dev/null).
+TEST(Vtu, PipeTargetIsWrittenInPlaceAndStaysAPipe) {
+  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  RunReport run;
+  PolyMesh m = test::mesh_of(d, 0.3, 1, 1, &run);
+  std::string fifo = testing::TempDir() + "/froth_test_fifo";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  // A read-write descriptor keeps the pipe open, so the reader never blocks on open and sees
+  // end-of-file once it is closed: the test fails rather than hangs if froth never writes.
+  int keep = open(fifo.c_str(), O_RDWR);
+  ASSERT_GE(keep, 0);
+  size_t received = 0;
+  std::thread reader([&] {
+    int fd = open(fifo.c_str(), O_RDONLY);
+    char buf[4096];
+    ssize_t got;
+    while ((got = read(fd, buf, sizeof buf)) > 0) received += size_t(got);
+    close(fd);
+  });
+  try {
+    write_vtu(m, run, fifo);
+  } catch (...) {
+  }
+  close(keep);
+  reader.join();
+  EXPECT_GT(received, 1000u);
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+  std::filesystem::remove(fifo);
+}
+
+TEST(Vtu, SymlinkTargetIsReplacedAndTheLinkKept) {
+  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  RunReport run;
+  PolyMesh m = test::mesh_of(d, 0.3, 1, 1, &run);
+  std::string dir = testing::TempDir(), target = dir + "/froth_link_target.vtu", link = dir + "/froth_link.vtu";
+  std::filesystem::remove(link);
+  std::ofstream(target) << "old";
+  std::filesystem::create_symlink(target, link);
+  write_vtu(m, run, link);
+  EXPECT_TRUE(std::filesystem::is_symlink(link));
+  EXPECT_GT(std::filesystem::file_size(target), 1000u);
+  std::filesystem::remove(link);
+  std::filesystem::remove(target);
 }
 
 TEST(Vtu, UnwritableDirectoryIsAnIoErrorAndLeavesNoFile) {
