@@ -50,17 +50,19 @@ TEST(Vtu, PipeTargetIsWrittenInPlaceAndStaysAPipe) {
   std::string fifo = testing::TempDir() + "/froth_test_fifo";
   std::filesystem::remove(fifo);
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  // A read-write descriptor keeps the pipe open, so the reader never blocks on open and sees
-  // end-of-file once it is closed: the test fails rather than hangs if froth never writes.
+  // Both ends are opened here, before froth writes: a read-write descriptor (never blocks on a
+  // FIFO) and the reader's. Closing the former after froth is done gives the reader its
+  // end-of-file, so the test fails rather than hangs if froth never writes to the pipe.
   int keep = open(fifo.c_str(), O_RDWR);
   ASSERT_GE(keep, 0);
+  int rfd = open(fifo.c_str(), O_RDONLY);
+  ASSERT_GE(rfd, 0);
   size_t received = 0;
   std::thread reader([&] {
-    int fd = open(fifo.c_str(), O_RDONLY);
     char buf[4096];
     ssize_t got;
-    while ((got = read(fd, buf, sizeof buf)) > 0) received += size_t(got);
-    close(fd);
+    while ((got = read(rfd, buf, sizeof buf)) > 0) received += size_t(got);
+    close(rfd);
   });
   try {
     write_vtu(m, run, fifo);
