@@ -98,7 +98,6 @@ class Sampler {
       std::vector<ActiveCube> next = refine(active, level);
       std::vector<ActiveCube>().swap(active);
       active = std::move(next);
-
       ++level;
     }
     s_.stats.levels = size_t(level) + 1;
@@ -137,11 +136,6 @@ class Sampler {
     });
   }
 
-  // Is the cube [lo, lo + h]^3 inside the union of the r-balls around `near`? Exact for one
-  // ball (the farthest corner is within r) and for two balls A, B: the cube's part on A's side
-  // of their bisector is a convex polytope, inside ball A iff its vertices are (the cube corners
-  // on A's side and the cube edges' crossings of the bisector), and likewise for B. Which two
-  // balls: the nearest seeds of the cube's corners, when there are only two.
   // Per seed, the squared distance along each axis from the seed to the farther face of each
   // half of the parent: far2[s][axis][half]. A child is in seed s's ball iff the sum over axes
   // for its halves is within r^2 (its farthest corner is).
@@ -330,8 +324,8 @@ class Sampler {
     }
   }
 
-  // Splits every active cube into 8 and keeps the children not covered by one disk and not
-  // outside the domain.
+  // Splits every active cube into 8 and keeps the children that are neither covered (by one
+  // disk, or provably by two) nor outside the domain.
   std::vector<ActiveCube> refine(const std::vector<ActiveCube>& active, int level) {
     const double h = std::ldexp(s_.grid.side, -(level + 1));
     const size_t chunks = (active.size() + kChunk - 1) / kChunk;
