@@ -116,7 +116,7 @@ class CellBuilder {
       const Plane& pl = domain_.planes[p];
       double gap = pl.offset - dot(pl.normal, x);
       if (gap >= half * std::sqrt(3.0)) continue;
-      if (!apply(cell, cell.clip(pl.normal, gap, plane_generator(int32_t(p)), eps_)))
+      if (!usable(cell.clip(pl.normal, gap, plane_generator(int32_t(p)), eps_)))
         return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
     }
     nb.clear();
@@ -137,7 +137,7 @@ class CellBuilder {
       double d = std::sqrt(n.d2);
       Vec3 dir = (1 / d) * (sample_.seeds[n.seed] - x);
       ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_);
-      if (!apply(cell, c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
+      if (!usable(c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
       if (c == ConvexCell::Clip::Cut) rmax2 = cell.max_radius2();
     }
     for (size_t f = 0; f < cell.face_count(); ++f)
@@ -151,9 +151,7 @@ class CellBuilder {
   }
 
  private:
-  static bool apply(ConvexCell&, ConvexCell::Clip c) {
-    return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged;
-  }
+  static bool usable(ConvexCell::Clip c) { return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged; }
   const ConvexDomain& domain_;
   const Sample& sample_;
   double r_, eps_;
