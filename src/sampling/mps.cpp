@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <span>
 
@@ -112,12 +113,6 @@ class Sampler {
     const auto& g = s_.grid;
     int64_t i = b % g.nx, j = (b / g.nx) % g.ny, k = b / (int64_t(g.nx) * g.ny);
     return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
-  }
-
-  bool conflicts(Vec3 p) const {
-    bool hit = false;
-    s_.buckets.for_each_near(p, p, r_, [&](int32_t q) { hit |= norm2(s_.seeds[q] - p) < r2_; });
-    return hit;
   }
 
   // Seeds that may lie within r of some point of the cube [lo, lo + h]^3.
@@ -314,14 +309,80 @@ class Sampler {
     std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
       return a.time != b.time ? a.time < b.time : a.base < b.base;
     });
-    // Greedy in arrival order: a candidate survives unless an earlier one of this round took
-    // its cube or came within r.
-    for (const Candidate& c : all) {
-      if (s_.cube_seed[c.base] >= 0 || conflicts(c.p)) continue;
-      s_.cube_seed[c.base] = int32_t(s_.seeds.size());
-      s_.buckets.insert(int32_t(s_.seeds.size()), c.p);
-      s_.seeds.push_back(c.p);
+    const std::vector<uint8_t> accepted = accept_in_arrival_order(all);
+    for (size_t c = 0; c < all.size(); ++c) {
+      if (!accepted[c]) continue;
+      s_.cube_seed[all[c].base] = int32_t(s_.seeds.size());
+      s_.buckets.insert(int32_t(s_.seeds.size()), all[c].p);
+      s_.seeds.push_back(all[c].p);
     }
+  }
+
+  // Greedy in arrival order (`all` is sorted by time), computed in parallel: a candidate is
+  // accepted iff no earlier candidate of the round that conflicts with it (within r, or in
+  // the same base cube) is accepted. Each pass decides every candidate whose earlier
+  // conflicting candidates are all decided; decisions are final, so the result is the
+  // sequential greedy one whatever the threads or their timing.
+  std::vector<uint8_t> accept_in_arrival_order(const std::vector<Candidate>& all) const {
+    enum : uint8_t { Undecided, Accepted, Rejected };
+    const size_t n = all.size();
+    // Candidates bucketed in cubes of side r (counting sort; ascending index in each bucket).
+    const Box& box = domain_.bounds;
+    const int nx = std::max(1, int(std::ceil(box.size().x / r_))), ny = std::max(1, int(std::ceil(box.size().y / r_))),
+              nz = std::max(1, int(std::ceil(box.size().z / r_)));
+    auto cell = [&](Vec3 p, int& i, int& j, int& k) {
+      i = std::clamp(int((p.x - box.lo.x) / r_), 0, nx - 1);
+      j = std::clamp(int((p.y - box.lo.y) / r_), 0, ny - 1);
+      k = std::clamp(int((p.z - box.lo.z) / r_), 0, nz - 1);
+    };
+    std::vector<uint32_t> begin(size_t(nx) * ny * nz + 1, 0), order(n);
+    std::vector<uint32_t> key(n);
+    for (size_t c = 0; c < n; ++c) {
+      int i, j, k;
+      cell(all[c].p, i, j, k);
+      key[c] = uint32_t((size_t(k) * ny + j) * nx + i);
+      ++begin[key[c] + 1];
+    }
+    for (size_t b = 1; b < begin.size(); ++b) begin[b] += begin[b - 1];
+    {
+      std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+      for (size_t c = 0; c < n; ++c) order[fill[key[c]]++] = uint32_t(c);
+    }
+    std::vector<std::atomic<uint8_t>> state(n);
+    for (auto& s : state) s.store(Undecided, std::memory_order_relaxed);
+    bool undecided = n > 0;
+    while (undecided) {
+      undecided = false;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided)
+      for (size_t c = 0; c < n; ++c) {
+        if (state[c].load(std::memory_order_relaxed) != Undecided) continue;
+        int ci, cj, ck;
+        cell(all[c].p, ci, cj, ck);
+        bool blocked = false, dead = false;
+        for (int k = std::max(0, ck - 1); k <= std::min(nz - 1, ck + 1) && !dead; ++k)
+          for (int j = std::max(0, cj - 1); j <= std::min(ny - 1, cj + 1) && !dead; ++j)
+            for (int i = std::max(0, ci - 1); i <= std::min(nx - 1, ci + 1) && !dead; ++i) {
+              const size_t b = (size_t(k) * ny + j) * nx + i;
+              for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
+                const uint32_t d = order[e];
+                if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
+                if (all[d].base != all[c].base && norm2(all[d].p - all[c].p) >= r2_) continue;
+                const uint8_t sd = state[d].load(std::memory_order_acquire);
+                if (sd == Accepted) {
+                  dead = true;
+                  break;
+                }
+                if (sd == Undecided) blocked = true;
+              }
+            }
+        if (dead) state[c].store(Rejected, std::memory_order_release);
+        else if (!blocked) state[c].store(Accepted, std::memory_order_release);
+        else undecided = true;
+      }
+    }
+    std::vector<uint8_t> accepted(n);
+    for (size_t c = 0; c < n; ++c) accepted[c] = state[c].load(std::memory_order_relaxed) == Accepted;
+    return accepted;
   }
 
   // Splits every active cube into 8 and keeps the children that are neither covered (by one
