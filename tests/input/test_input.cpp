@@ -3,6 +3,8 @@
 
 #include <fstream>
 
+#include <fmt/format.h>
+
 #include "common/test_support.hpp"
 
 namespace froth {
@@ -99,6 +101,50 @@ TEST(Input, BoxSpecs) {
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,1,2"); }), ErrorKind::Usage);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,-1,2,3"); }), ErrorKind::Usage);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,1,2,3,4"); }), ErrorKind::Usage);
+}
+
+}  // namespace
+}  // namespace froth
+
+namespace froth {
+namespace {
+
+// The icosphere written as ASCII STL (17 significant digits: an exact round trip of each
+// coordinate) reads back to the same domain and meshes to the same volume.
+TEST(Input, AsciiStlOfTheIcosphereMeshesLikeTheBinaryOne) {
+  TriangleSurface s = read_stl(test::model("unit_sphere.STL"));
+  std::string path = testing::TempDir() + "/sphere_ascii.stl";
+  {
+    std::ofstream out(path);
+    out << "solid sphere\n";
+    for (auto [a, b, c] : s.triangles) {
+      out << "facet normal 0 0 0\nouter loop\n";
+      for (int32_t v : {a, b, c})
+        out << fmt::format("vertex {:.17g} {:.17g} {:.17g}\n", s.vertices[v].x, s.vertices[v].y, s.vertices[v].z);
+      out << "endloop\nendfacet\n";
+    }
+    out << "endsolid sphere\n";
+  }
+  ConvexDomain bin = load_domain(test::model("unit_sphere.STL")), asc = load_domain(path);
+  ASSERT_EQ(asc.planes.size(), bin.planes.size());
+  EXPECT_DOUBLE_EQ(asc.volume, bin.volume);
+  RunReport rb, ra;
+  test::mesh_of(bin, 0.2, 3, 2, &rb);
+  test::mesh_of(asc, 0.2, 3, 2, &ra);
+  EXPECT_EQ(ra.cells, rb.cells);
+  EXPECT_NEAR(ra.volume_sum, asc.volume, 1e-9 * asc.volume);
+}
+
+// unit_cube.STL is box:-0.5,-0.5,-0.5,0.5,0.5,0.5: the same seeds and cell volumes.
+TEST(Input, CubeStlAndBoxSpecGiveTheSameMesh) {
+  ConvexDomain stl = load_domain(test::model("unit_cube.STL"));
+  ConvexDomain box = parse_box_spec("box:-0.5,-0.5,-0.5,0.5,0.5,0.5");
+  PolyMesh a = test::mesh_of(stl, 0.15, 11, 2), b = test::mesh_of(box, 0.15, 11, 2);
+  ASSERT_EQ(a.cell_count(), b.cell_count());
+  for (size_t c = 0; c < a.cell_count(); ++c) {
+    EXPECT_EQ(norm2(a.seeds[c] - b.seeds[c]), 0.0);
+    EXPECT_NEAR(a.volumes[c], b.volumes[c], 1e-15);
+  }
 }
 
 }  // namespace
