@@ -76,11 +76,12 @@ int main(int argc, char** argv) {
   mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed convex STL surface")->required();
   mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
       ->required();
-  mesh->add_option("--seed", a.seed, "random seed (the mesh is a pure function of input, r and seed)");
+  mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
+      ->check([](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; });
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
   mesh->add_option("--weld", a.weld, "weld tolerance; this version supports only 0 (off)");
-  mesh->add_option("--threads", a.threads, "threads (default: all cores); never changes the result")
-      ->check(CLI::NonNegativeNumber);
+  mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
+      ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
   try {
     app.parse(argc, argv);

@@ -117,6 +117,9 @@ for args, code, words in [
     (["box:0,0,0,1,1", "-r", "0.1"], 2, "six finite numbers"),
     (["box:0,0,0,1,1,1", "-r", "-1"], 2, "r must be positive"),
     (["box:0,0,0,1,1,1"], 2, "required"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--seed", "-1"], 2, "must not be negative"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--threads", "-2"], 2, "not in range"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "0.01"], 2, "welding is not implemented"),
 ]:
     out = os.path.join(tmp, "bad.vtu")
     p = froth("mesh", *args, "-o", out)
