@@ -3,6 +3,7 @@
 // the r/2 ball in interior cells (Lemma 2) and interior dihedral angles in [60, 150] (Lemma 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <tuple>
 
@@ -111,6 +112,42 @@ TEST(MeshErrors, BadParametersAreUsageErrors) {
       EXPECT_EQ(e.kind(), ErrorKind::Usage);
     }
   }
+}
+
+}  // namespace
+}  // namespace froth
+
+namespace froth {
+namespace {
+
+// The final check must catch what it promises to catch.
+TEST(MeshCheckDetects, UnmatchedFaceOpenCellAndNegativeVolume) {
+  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  PolyMesh good = test::mesh_of(d, 0.2, 4, 1);
+  ASSERT_TRUE(check_mesh(good).ok());
+  // An interior face of cell 0 and the cell behind it.
+  int64_t f = good.cell_face_begin[0];
+  while (good.face_generator[f] < 0) ++f;
+
+  PolyMesh m = good;  // one vertex of the face replaced: its twin no longer matches, cell 0 opens
+  m.face_vertices[m.face_vertex_begin[f]] = m.face_vertices[m.face_vertex_begin[f] + 1];
+  MeshCheck c = check_mesh(m);
+  EXPECT_FALSE(c.ok());
+  EXPECT_GE(c.unmatched_faces, 1u);
+  EXPECT_GE(c.open_cells, 1u);
+  EXPECT_NE(c.first_problem.find("cell"), std::string::npos);
+
+  m = good;  // the face reversed: still closed, but not the twin of the neighbour's face
+  std::reverse(m.face_vertices.begin() + m.face_vertex_begin[f], m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
+  EXPECT_GE(check_mesh(m).unmatched_faces, 1u);
+
+  m = good;  // every face of cell 0 reversed: closed, matched nowhere, negative volume
+  for (int64_t g = m.cell_face_begin[0]; g < m.cell_face_begin[1]; ++g)
+    std::reverse(m.face_vertices.begin() + m.face_vertex_begin[g], m.face_vertices.begin() + m.face_vertex_begin[g + 1]);
+  m.volumes.clear();  // recomputed by the check
+  c = check_mesh(m);
+  EXPECT_GE(c.nonpositive_cells, 1u);
+  EXPECT_GE(c.unmatched_faces, 1u);
 }
 
 }  // namespace
