@@ -76,6 +76,19 @@ std::string raw_array(AppendedBlocks& w, const Vector& v, const char* type, cons
       type, name, components);
 }
 
+// A VTK offsets array: the running end of each cell's entries, given each cell's length.
+template <class Length>
+std::string end_offsets(AppendedBlocks& w, size_t cells, Length length, const char* name) {
+  return data_array(
+      w, cells * 8,
+      [cells, length](std::ostream& out) {
+        ValueWriter<int64_t> vw(out);
+        int64_t end = 0;
+        for (size_t c = 0; c < cells; ++c) vw.put(end += length(c));
+      },
+      "Int64", name);
+}
+
 std::string version_numbers(std::string v) {
   std::replace(v.begin(), v.end(), '.', ' ');
   return v;
@@ -135,14 +148,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         }
       },
       "Int64", "connectivity");
-  xml << data_array(
-      w, n * 8,
-      [&](std::ostream& out) {
-        ValueWriter<int64_t> vw(out);
-        int64_t end = 0;
-        for (size_t c = 0; c < n; ++c) vw.put(end += npts[c]);
-      },
-      "Int64", "offsets");
+  xml << end_offsets(w, n, [&](size_t c) { return int64_t(npts[c]); }, "offsets");
   xml << data_array(
       w, n,
       [&](std::ostream& out) {
@@ -163,18 +169,14 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         }
       },
       "Int64", "faces");
-  xml << data_array(
-      w, n * 8,
-      [&](std::ostream& out) {
-        ValueWriter<int64_t> vw(out);
-        int64_t end = 0;
-        for (size_t c = 0; c < n; ++c) {
-          end += 1 + (m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
-          end += m.face_vertex_begin[m.cell_face_begin[c + 1]] - m.face_vertex_begin[m.cell_face_begin[c]];
-          vw.put(end);
-        }
+  // Each cell's face stream: its face count, then per face its size and vertex ids.
+  xml << end_offsets(
+      w, n,
+      [&](size_t c) {
+        const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+        return 1 + (f1 - f0) + (m.face_vertex_begin[f1] - m.face_vertex_begin[f0]);
       },
-      "Int64", "faceoffsets");
+      "faceoffsets");
   xml << "</Cells>\n<CellData>\n" << raw_array(w, m.seeds, "Float64", "seed", 3);
   xml << data_array(
       w, n * 4,
