@@ -84,11 +84,6 @@ class SeedBuckets {
     }
   }
 
-  // Re-numbers every stored id through `map` (after the seeds are re-ordered).
-  void renumber(const std::vector<int32_t>& map) {
-    for (size_t b = 0; b < buckets_.size(); ++b)
-      for (int s = 0; s < counts_[b]; ++s) buckets_[b].id[s] = map[buckets_[b].id[s]];
-  }
 
  private:
   struct Bucket {

@@ -19,6 +19,7 @@
 #include <span>
 
 #include "common/random.hpp"
+#include "common/seed_buckets.hpp"
 #include "common/tolerances.hpp"
 
 namespace froth {
@@ -77,10 +78,9 @@ int poisson(double u) {
 class Sampler {
  public:
   Sampler(const ConvexDomain& domain, double r, uint64_t seed)
-      : domain_(domain), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
+      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
-    s_.buckets = SeedBuckets(domain.bounds, r);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
@@ -119,7 +119,7 @@ class Sampler {
   void seeds_near_box(Vec3 lo, double h, std::vector<Vec3>& near) const {
     near.clear();
     const Vec3 hi = lo + Vec3{h, h, h};
-    s_.buckets.for_each_near(lo, hi, r_, [&](int32_t q) {
+    buckets_.for_each_near(lo, hi, r_, [&](int32_t q) {
       // Keep q if its distance to the box is below r.
       Vec3 p = s_.seeds[q];
       double d2 = 0;
@@ -313,7 +313,7 @@ class Sampler {
     for (size_t c = 0; c < all.size(); ++c) {
       if (!accepted[c]) continue;
       s_.cube_seed[all[c].base] = int32_t(s_.seeds.size());
-      s_.buckets.insert(int32_t(s_.seeds.size()), all[c].p);
+      buckets_.insert(int32_t(s_.seeds.size()), all[c].p);
       s_.seeds.push_back(all[c].p);
     }
   }
@@ -431,19 +431,17 @@ class Sampler {
 
   void order_seeds_by_cube() {
     std::vector<Vec3> ordered;
-    std::vector<int32_t> new_id(s_.seeds.size());
     ordered.reserve(s_.seeds.size());
     for (int32_t& q : s_.cube_seed)
       if (q >= 0) {
         ordered.push_back(s_.seeds[q]);
-        new_id[q] = int32_t(ordered.size() - 1);
-        q = new_id[q];
+        q = int32_t(ordered.size() - 1);
       }
     s_.seeds = std::move(ordered);
-    s_.buckets.renumber(new_id);
   }
 
   const ConvexDomain& domain_;
+  SeedBuckets buckets_;  // the seeds again, in cubes of side r, for neighbour queries
   // Boundary base cubes (sorted) and, for each, the domain planes that cut it.
   std::vector<uint32_t> boundary_base_, boundary_begin_;
   std::vector<int32_t> boundary_planes_;

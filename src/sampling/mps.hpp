@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "common/background_grid.hpp"
-#include "common/seed_buckets.hpp"
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
 
@@ -15,7 +14,6 @@ struct Sample {
   BackgroundGrid grid;
   std::vector<Vec3> seeds;          // ordered by base cube index
   std::vector<int32_t> cube_seed;   // per base cube: index of its seed, or -1
-  SeedBuckets buckets;              // the seeds again, in cubes of side r
   SamplingStats stats;
 };
 

@@ -204,7 +204,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double r, TessellationTimes* times) {
   auto t0 = std::chrono::steady_clock::now();
-  sample.buckets = SeedBuckets();  // cells gather neighbours from the (smaller) fine grid
   const size_t n = sample.seeds.size();
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
   std::vector<CellChunk> chunks(nchunks);
