@@ -1,151 +1,287 @@
 #include "voronoi/convex_cell.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace froth {
 
-void ConvexCell::reset_cube(double h) {
-  verts_.clear();
-  // Corner c has coordinates (±h) by bits of c; faces -x,+x,-y,+y,-z,+z are generators 0..5.
-  for (int c = 0; c < 8; ++c) verts_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
-  static constexpr uint16_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
-                                           {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  face_gen_.clear();
-  face_start_.assign(1, 0);
-  face_vert_.clear();
-  for (int f = 0; f < 6; ++f) {
-    face_gen_.push_back(kCubeGenerator + f);
-    face_vert_.insert(face_vert_.end(), faces[f], faces[f] + 4);
-    face_start_.push_back(uint32_t(face_vert_.size()));
-  }
-}
+namespace {
+double det3(Vec3 a, Vec3 b, Vec3 c) { return dot(a, cross(b, c)); }
+}  // namespace
 
-// a is the inner end point, b the outer one.
-uint16_t ConvexCell::cut_vertex(uint16_t a, uint16_t b) {
-  const uint16_t lo = std::min(a, b), hi = std::max(a, b);
-  for (const CutEdge& c : cuts_)
-    if (c.a == lo && c.b == hi) return c.v;
-  // Interpolated from the inner end point; the memo gives both faces of the edge one vertex.
-  const double t = dist_[a] / (dist_[a] - dist_[b]);
-  const uint16_t id = uint16_t(verts_.size());
-  verts_.push_back(verts_[a] + t * (verts_[b] - verts_[a]));
-  cuts_.push_back({lo, hi, id});
-  return id;
+void ConvexCell::reset_cube(double h) {
+  // Faces -x, +x, -y, +y, -z, +z are planes (and generators) 0..5.
+  static const Vec3 normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  planes_.clear();
+  for (int f = 0; f < 6; ++f) planes_.push_back({normals[f], h, kCubeGenerator + f});
+  tri_.clear();
+  pos_.clear();
+  // Corner c has coordinates (±h) by bits of c and lies on one plane per axis, ordered so that
+  // the normals are counter-clockwise seen from outside (positive determinant).
+  for (int c = 0; c < 8; ++c) {
+    Tri t;
+    t.p[0] = uint8_t((c & 1) ? 1 : 0);
+    t.p[1] = uint8_t((c & 2) ? 3 : 2);
+    t.p[2] = uint8_t((c & 4) ? 5 : 4);
+    if (det3(planes_[t.p[0]].n, planes_[t.p[1]].n, planes_[t.p[2]].n) < 0) std::swap(t.p[1], t.p[2]);
+    tri_.push_back(t);
+    pos_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
+  }
+  // Adjacency: the triangle holding the reversed edge.
+  for (size_t t = 0; t < tri_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint8_t a = tri_[t].p[(k + 1) % 3], b = tri_[t].p[(k + 2) % 3];
+      for (size_t o = 0; o < tri_.size(); ++o)
+        for (int j = 0; j < 3; ++j)
+          if (tri_[o].p[(j + 1) % 3] == b && tri_[o].p[(j + 2) % 3] == a) tri_[t].adj[k] = uint16_t(o);
+    }
+  border_from_.fill(kNone);
+  faces_valid_ = rmax_valid_ = false;
 }
 
 ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, double eps) {
-  const size_t nv = verts_.size();
-  dist_.resize(nv);
-  side_.resize(nv);
-  bool any_out = false, any_in = false;
-  for (size_t v = 0; v < nv; ++v) {
-    double s = dot(n, verts_[v]) - offset;
-    dist_[v] = s;
-    Side sd = s > eps ? Out : (s < -eps ? In : On);
-    side_[v] = sd;
-    any_out |= sd == Out;
-    any_in |= sd == In;
+  const size_t nt = tri_.size();
+  sd_.resize(nt);
+  out_.resize(nt);
+  size_t n_out = 0;
+  bool any_in = false;
+  for (size_t t = 0; t < nt; ++t) {
+    const double s = dot(n, pos_[t]) - offset;
+    sd_[t] = s;
+    const bool o = s > eps;
+    out_[t] = o;
+    n_out += o;
+    any_in |= s < -eps;
   }
-  if (!any_out) return Clip::Unchanged;
+  if (n_out == 0) return Clip::Unchanged;
   if (!any_in) return Clip::Empty;
+  if (planes_.size() >= kMaxPlanes && !compact_planes()) return Clip::Failed;
+  faces_valid_ = rmax_valid_ = false;
 
-  cuts_.clear();
-  cap_.clear();
-  new_gen_.clear();
-  new_start_.assign(1, 0);
-  new_vert_.clear();
-  for (size_t f = 0; f < face_gen_.size(); ++f) {
-    const uint32_t b = face_start_[f], e = face_start_[f + 1];
-    bool out = false;
-    for (uint32_t i = b; i < e; ++i) out |= side_[face_vert_[i]] == Out;
-    if (!out) {
-      new_vert_.insert(new_vert_.end(), face_vert_.begin() + b, face_vert_.begin() + e);
-      new_gen_.push_back(face_gen_[f]);
-      new_start_.push_back(uint32_t(new_vert_.size()));
-      continue;
-    }
-    const size_t start = new_vert_.size();
-    int exits = 0, entries = 0;
-    uint16_t exit_v = 0, entry_v = 0;
-    for (uint32_t i = b; i < e; ++i) {
-      uint16_t u = face_vert_[i], w = face_vert_[i + 1 < e ? i + 1 : b];
-      Side su = side_[u], sw = side_[w];
-      if (su != Out) new_vert_.push_back(u);
-      if (su != Out && sw == Out) {
-        exit_v = su == On ? u : cut_vertex(u, w);
-        if (su == In) new_vert_.push_back(exit_v);
-        ++exits;
-      } else if (su == Out && sw != Out) {
-        entry_v = sw == On ? w : cut_vertex(w, u);
-        if (sw == In) new_vert_.push_back(entry_v);
-        ++entries;
+  // The border of the removed region: edges from a removed vertex to a kept one. Each runs
+  // from plane u to plane v (in the removed triangle's order); for a convex cut they form one
+  // cycle through the planes the new face crosses.
+  border_.clear();
+  Clip result = Clip::Cut;
+  for (size_t t = 0; t < nt && result == Clip::Cut; ++t) {
+    if (!out_[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const uint16_t o = tri_[t].adj[k];
+      if (out_[o]) continue;
+      const uint8_t u = tri_[t].p[(k + 1) % 3], v = tri_[t].p[(k + 2) % 3];
+      int slot = 0;
+      while (slot < 3 && tri_[o].adj[slot] != t) ++slot;
+      if (slot == 3 || border_from_[u] != kNone) {
+        result = Clip::Failed;  // not a simple cycle: only round-off on a non-convex cell does this
+        break;
       }
-    }
-    if (exits != entries || exits > 1) return Clip::Failed;  // only a non-convex face does this
-    if (exits == 1 && exit_v != entry_v) cap_.push_back({entry_v, exit_v});
-    if (new_vert_.size() - start >= 3) {
-      new_gen_.push_back(face_gen_[f]);
-      new_start_.push_back(uint32_t(new_vert_.size()));
-    } else {
-      new_vert_.resize(start);
+      border_from_[u] = uint16_t(border_.size());
+      // The new vertex on the edge from o (kept) to t (removed); a vertex on the plane is its
+      // own crossing (snapping).
+      Vec3 p = pos_[o];
+      if (sd_[o] < -eps) p = p + (sd_[o] / (sd_[o] - sd_[t])) * (pos_[t] - pos_[o]);
+      border_.push_back({u, v, uint8_t(slot), o, p});
     }
   }
-
-  // The cap face on the cutting plane: it runs each clipped face's new edge backwards.
-  if (cap_.size() < 3) return Clip::Failed;
-  const size_t cap_start = new_vert_.size();
-  uint16_t cur = cap_[0].from;
-  for (size_t step = 0; step < cap_.size(); ++step) {
-    new_vert_.push_back(cur);
-    auto it = std::find_if(cap_.begin(), cap_.end(), [&](const CapEdge& c) { return c.from == cur; });
-    if (it == cap_.end()) return Clip::Failed;
-    cur = it->to;
+  const size_t nb = border_.size();
+  if (result == Clip::Cut && (nb < 3 || nt + nb >= kNone)) result = Clip::Failed;
+  // Every edge must continue from its end plane, and one walk must visit them all.
+  if (result == Clip::Cut) {
+    size_t b = 0, steps = 0;
+    do {
+      const uint16_t next = border_from_[border_[b].v];
+      if (next == kNone) break;
+      b = next;
+      ++steps;
+    } while (b != 0 && steps <= nb);
+    if (b != 0 || steps != nb) result = Clip::Failed;
   }
-  if (cur != cap_[0].from) return Clip::Failed;
-  (void)cap_start;
-  new_gen_.push_back(generator);
-  new_start_.push_back(uint32_t(new_vert_.size()));
-
-  // Drop the vertices outside and renumber.
-  remap_.assign(verts_.size(), -1);
-  size_t kept = 0;
-  for (size_t v = 0; v < verts_.size(); ++v) {
-    if (v < nv && side_[v] == Out) continue;
-    remap_[v] = int32_t(kept);
-    verts_[kept++] = verts_[v];
+  if (result != Clip::Cut) {
+    for (const Border& e : border_) border_from_[e.u] = kNone;
+    return result;
   }
-  verts_.resize(kept);
-  for (uint16_t& v : new_vert_) v = uint16_t(remap_[v]);
-  face_gen_.swap(new_gen_);
-  face_start_.swap(new_start_);
-  face_vert_.swap(new_vert_);
-  if (verts_.size() > 0xFFFF) return Clip::Failed;
+
+  // New triangles (u, v, P) take the removed triangles' slots first.
+  const uint8_t P = uint8_t(planes_.size());
+  planes_.push_back({n, offset, generator});
+  slots_.clear();
+  for (size_t t = 0; t < nt; ++t)
+    if (out_[t]) slots_.push_back(uint16_t(t));
+  const size_t removed = slots_.size();
+  for (size_t b = removed; b < nb; ++b) slots_.push_back(uint16_t(nt + b - removed));
+  if (nb > removed) {
+    tri_.resize(nt + nb - removed);
+    pos_.resize(nt + nb - removed);
+  }
+  for (size_t b = 0; b < nb; ++b) {
+    const Border& e = border_[b];
+    const uint16_t id = slots_[b], next = slots_[border_from_[e.v]];
+    Tri& t = tri_[id];
+    t.p[0] = e.u;
+    t.p[1] = e.v;
+    t.p[2] = P;
+    t.adj[0] = next;     // edge (v, P): shared with the next new triangle
+    t.adj[2] = e.outer;  // edge (u, v): shared with the kept vertex
+    tri_[next].adj[1] = id;  // the next triangle's edge (P, v') faces back here
+    tri_[e.outer].adj[e.outer_slot] = id;
+    pos_[id] = e.pos;
+  }
+  for (const Border& e : border_) border_from_[e.u] = kNone;
+
+  // Fill the remaining holes with triangles from the end.
+  if (removed > nb) {
+    const size_t size = nt - (removed - nb);
+    std::vector<uint8_t>& hole = out_;  // reuse: out_[t] now marks free slots
+    for (size_t b = 0; b < nb; ++b) hole[slots_[b]] = 0;
+    size_t h = 0;
+    for (size_t m = size; m < nt; ++m) {
+      if (hole[m]) continue;
+      while (!hole[h]) ++h;
+      tri_[h] = tri_[m];
+      pos_[h] = pos_[m];
+      for (int k = 0; k < 3; ++k) {
+        Tri& a = tri_[tri_[h].adj[k]];
+        for (int j = 0; j < 3; ++j)
+          if (a.adj[j] == m) a.adj[j] = uint16_t(h);
+      }
+      hole[h] = 0;
+    }
+    tri_.resize(size);
+    pos_.resize(size);
+  }
   return Clip::Cut;
 }
 
+// Drops the planes no vertex lies on any more (cut away entirely) and renumbers the rest.
+bool ConvexCell::compact_planes() {
+  std::array<uint8_t, 256> used{}, id{};
+  for (const Tri& t : tri_)
+    for (uint8_t p : t.p) used[p] = 1;
+  size_t kept = 0;
+  for (size_t p = 0; p < planes_.size(); ++p) {
+    if (!used[p]) continue;
+    id[p] = uint8_t(kept);
+    planes_[kept++] = planes_[p];
+  }
+  planes_.resize(kept);
+  for (Tri& t : tri_)
+    for (uint8_t& p : t.p) p = id[p];
+  faces_valid_ = false;
+  return kept < kMaxPlanes;
+}
+
 double ConvexCell::max_radius2() const {
-  double m = 0;
-  for (Vec3 v : verts_) m = std::max(m, norm2(v));
-  return m;
+  if (!rmax_valid_) {
+    double m = 0;
+    for (Vec3 v : pos_) m = std::max(m, norm2(v));
+    rmax2_ = m;
+    rmax_valid_ = true;
+  }
+  return rmax2_;
+}
+
+bool ConvexCell::box_outside_ball(double radius2, Vec3& lo, Vec3& hi) const {
+  bool any = false;
+  auto add = [&](Vec3 p) {
+    if (!any) lo = hi = p, any = true;
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  };
+  for (size_t t = 0; t < tri_.size(); ++t) {
+    const Vec3 a = pos_[t];
+    if (norm2(a) <= radius2) continue;
+    add(a);
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 b = pos_[tri_[t].adj[k]];
+      if (norm2(b) > radius2) continue;
+      // The edge from b (inside) to a (outside) leaves the ball at b + s (a - b), s in [0, 1].
+      const Vec3 d = a - b;
+      const double qa = norm2(d), qb = dot(b, d), qc = norm2(b) - radius2;
+      const double s = (-qb + std::sqrt(std::max(0.0, qb * qb - qa * qc))) / qa;
+      add(b + std::clamp(s, 0.0, 1.0) * d);
+    }
+  }
+  return any;
+}
+
+uint16_t ConvexCell::find(uint16_t t) const {
+  while (parent_[t] != t) t = parent_[t] = parent_[parent_[t]];
+  return t;
+}
+
+void ConvexCell::build_faces() const {
+  Faces& f = faces_;
+  const size_t nt = tri_.size();
+  // Triangles at the same position (a snapped degenerate vertex) are one vertex.
+  parent_.resize(nt);
+  for (size_t t = 0; t < nt; ++t) parent_[t] = uint16_t(t);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint16_t o = tri_[t].adj[k];
+      if (o > t && pos_[o] == pos_[t]) {
+        const uint16_t a = find(uint16_t(t)), b = find(o);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+      }
+    }
+  f.points.clear();
+  f.vertex_of_tri.assign(nt, kNone);
+  for (size_t t = 0; t < nt; ++t) {
+    const uint16_t root = find(uint16_t(t));
+    if (f.vertex_of_tri[root] == kNone) {
+      f.vertex_of_tri[root] = uint16_t(f.points.size());
+      f.points.push_back(pos_[root]);
+    }
+    f.vertex_of_tri[t] = f.vertex_of_tri[root];
+  }
+  // Faces: the triangles around each plane, walked counter-clockwise seen from outside.
+  plane_tri_.assign(planes_.size(), kNone);
+  for (size_t t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (plane_tri_[tri_[t].p[k]] == kNone) plane_tri_[tri_[t].p[k]] = uint16_t(t);
+  f.face_gen.clear();
+  f.face_start.assign(1, 0);
+  f.face_vert.clear();
+  for (size_t p = 0; p < planes_.size(); ++p) {
+    const uint16_t start = plane_tri_[p];
+    if (start == kNone) continue;
+    const size_t begin = f.face_vert.size();
+    uint16_t t = start;
+    size_t steps = 0;
+    do {
+      const uint16_t v = f.vertex_of_tri[t];
+      if (f.face_vert.size() == begin || f.face_vert.back() != v) f.face_vert.push_back(v);
+      int s = 0;
+      while (tri_[t].p[s] != p) ++s;
+      t = tri_[t].adj[(s + 1) % 3];  // across the edge (p[s+2], p[s]): the next vertex of the face
+    } while (t != start && ++steps <= nt);
+    if (f.face_vert.size() - begin > 1 && f.face_vert.back() == f.face_vert[begin]) f.face_vert.pop_back();
+    if (f.face_vert.size() - begin < 3) {  // collapsed to an edge or a point by snapping
+      f.face_vert.resize(begin);
+      continue;
+    }
+    f.face_gen.push_back(planes_[p].gen);
+    f.face_start.push_back(uint32_t(f.face_vert.size()));
+  }
+  faces_valid_ = true;
 }
 
 double ConvexCell::volume() const {
+  const Faces& f = final();
   double v6 = 0;
-  for (size_t f = 0; f < face_count(); ++f) {
-    const uint16_t* fv = face_begin(f);
-    Vec3 a = verts_[fv[0]];
-    for (size_t i = 1; i + 1 < face_size(f); ++i) v6 += dot(a, cross(verts_[fv[i]], verts_[fv[i + 1]]));
+  for (size_t k = 0; k < face_count(); ++k) {
+    const uint16_t* fv = face_begin(k);
+    Vec3 a = f.points[fv[0]];
+    for (size_t i = 1; i + 1 < face_size(k); ++i) v6 += dot(a, cross(f.points[fv[i]], f.points[fv[i + 1]]));
   }
   return v6 / 6;
 }
 
 bool ConvexCell::vertex_names(std::vector<Names>& names) const {
-  names.assign(verts_.size(), Names{});
-  for (size_t f = 0; f < face_count(); ++f)
-    for (size_t k = 0; k < face_size(f); ++k) {
-      Names& nm = names[face_begin(f)[k]];
+  names.assign(vertex_count(), Names{});
+  for (size_t k = 0; k < face_count(); ++k)
+    for (size_t i = 0; i < face_size(k); ++i) {
+      Names& nm = names[face_begin(k)[i]];
       if (nm.n == kMaxGenerators) return false;
-      nm.gen[nm.n++] = face_gen_[f];
+      nm.gen[nm.n++] = face_generator(k);
     }
   return true;
 }

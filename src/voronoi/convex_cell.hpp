@@ -1,10 +1,16 @@
 // A convex polyhedron cut by half-spaces, in coordinates relative to its seed (so round-off is
-// relative to the cell's size, not the domain's). Every face remembers the generator of its
-// plane, so a vertex is named by the generators of the faces through it: that name is what makes
-// neighbouring cells agree on shared vertices. Near-degenerate input is handled by snapping: a
-// vertex within `eps` of a cutting plane lies on it (no new vertex is made next to it, and it
-// joins the new face).
+// relative to the cell's size, not the domain's).
+//
+// It is stored in its dual form, after geogram's ConvexCell and Ray et al. 2018 ("Meshless
+// Voronoi on the GPU"): each vertex is a triangle of the three planes through it, with the three
+// triangles across its edges. A cut only touches the vertices it removes and the ring around
+// them, so its cost does not grow with the size of the cell, and a vertex's name (the generators
+// of its planes) comes for free: that name is what makes neighbouring cells agree on shared
+// vertices. Near-degenerate input is handled by snapping: a vertex within `eps` of a cutting plane
+// lies on it; the new vertices on its edges are put exactly at its position and merged with it
+// when the faces are read, so it joins the new face and its name gains the new generator.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -16,6 +22,7 @@ namespace froth {
 class ConvexCell {
  public:
   static constexpr int kMaxGenerators = 8;
+  static constexpr int kMaxPlanes = 255;  // plane ids are bytes
   // Generators of the six faces of the initial cube; a finished cell must have none left.
   static constexpr int32_t kCubeGenerator = std::numeric_limits<int32_t>::min();
   static bool is_cube_generator(int32_t g) { return g < kCubeGenerator + 6; }
@@ -39,39 +46,77 @@ class ConvexCell {
   // distance.
   Clip clip(Vec3 normal, double offset, int32_t generator, double eps);
 
-  size_t vertex_count() const { return verts_.size(); }
-  size_t face_count() const { return face_gen_.size(); }
-  Vec3 vertex(size_t v) const { return verts_[v]; }
-  int32_t face_generator(size_t f) const { return face_gen_[f]; }
-  // Vertex indices of face f, counter-clockwise seen from outside.
-  const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
-  size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
-
+  // The largest squared distance of a vertex from the origin (the seed).
   double max_radius2() const;
+  // The bounding box of the cell's part outside the ball |p|^2 <= radius2, or false if there is
+  // none. That part lies in the convex hull of the vertices outside the ball and of the points
+  // where the edges leave it (a linear function's maximum over polytope-minus-ball is reached
+  // at one of those), so the box of those points contains it.
+  bool box_outside_ball(double radius2, Vec3& lo, Vec3& hi) const;
+
+  // The faces as polygons, built on first use after a cut: vertices that coincide (snapped
+  // degenerate vertices) are one.
+  size_t vertex_count() const { return final().points.size(); }
+  size_t face_count() const { return final().face_gen.size(); }
+  Vec3 vertex(size_t v) const { return final().points[v]; }
+  int32_t face_generator(size_t f) const { return final().face_gen[f]; }
+  // Vertex indices of face f, counter-clockwise seen from outside.
+  const uint16_t* face_begin(size_t f) const { return final().face_vert.data() + final().face_start[f]; }
+  size_t face_size(size_t f) const { return final().face_start[f + 1] - final().face_start[f]; }
   double volume() const;
   // Names of all vertices; false if a vertex lies on more than kMaxGenerators faces.
   bool vertex_names(std::vector<Names>& names) const;
 
  private:
-  enum Side : uint8_t { In, On, Out };
-  uint16_t cut_vertex(uint16_t a, uint16_t b);
+  static constexpr uint16_t kNone = 0xFFFF;
+  struct PlaneRec {
+    Vec3 n;
+    double d;
+    int32_t gen;
+  };
+  // Planes p[0], p[1], p[2] around the vertex, counter-clockwise seen from outside; adj[k] is the
+  // triangle across the edge opposite p[k], that is the edge (p[k+1], p[k+2]).
+  struct Tri {
+    uint8_t p[3];
+    uint16_t adj[3];
+  };
+  struct Faces {
+    std::vector<Vec3> points;
+    std::vector<int32_t> face_gen;
+    std::vector<uint32_t> face_start;
+    std::vector<uint16_t> face_vert;
+    std::vector<uint16_t> vertex_of_tri;  // merged vertex of each triangle
+  };
+  const Faces& final() const {
+    if (!faces_valid_) build_faces();
+    return faces_;
+  }
+  void build_faces() const;
+  bool compact_planes();
+  uint16_t find(uint16_t t) const;
 
-  std::vector<Vec3> verts_;
-  std::vector<int32_t> face_gen_;
-  std::vector<uint32_t> face_start_;
-  std::vector<uint16_t> face_vert_;
+  std::vector<PlaneRec> planes_;
+  std::vector<Tri> tri_;
+  std::vector<Vec3> pos_;
 
   // Scratch, kept to avoid allocation in the hot loop.
-  std::vector<double> dist_;
-  std::vector<Side> side_;
-  std::vector<int32_t> new_gen_;
-  std::vector<uint32_t> new_start_;
-  std::vector<uint16_t> new_vert_;
-  struct CutEdge { uint16_t a, b, v; };
-  std::vector<CutEdge> cuts_;
-  struct CapEdge { uint16_t from, to; };
-  std::vector<CapEdge> cap_;
-  std::vector<int32_t> remap_;
+  std::vector<double> sd_;
+  std::vector<uint8_t> out_;
+  struct Border {  // an edge of the removed region: from plane u to plane v
+    uint8_t u, v, outer_slot;
+    uint16_t outer;
+    Vec3 pos;
+  };
+  std::vector<Border> border_;
+  std::vector<uint16_t> slots_;
+  std::array<uint16_t, 256> border_from_;  // border edge leaving each plane, or kNone
+
+  mutable bool faces_valid_ = false;
+  mutable bool rmax_valid_ = false;
+  mutable double rmax2_ = 0;
+  mutable Faces faces_;
+  mutable std::vector<uint16_t> parent_;
+  mutable std::vector<uint16_t> plane_tri_;
 };
 
 }  // namespace froth

@@ -92,7 +92,7 @@ TEST(ConvexCell, ManyRandomCutsKeepAClosedConvexCellAndMatchAnalyticBall) {
   ConvexCell c;
   c.reset_cube(2);
   double last = c.volume();
-  const int n = 400;
+  const int n = 240;  // below kMaxPlanes: every tangent plane stays a face
   for (int i = 0; i < n; ++i) {
     double z = 1 - 2 * (i + 0.5) / n, phi = i * M_PI * (3 - std::sqrt(5.0));
     double s = std::sqrt(1 - z * z);
@@ -104,12 +104,46 @@ TEST(ConvexCell, ManyRandomCutsKeepAClosedConvexCellAndMatchAnalyticBall) {
     last = v;
   }
   EXPECT_GT(last, 4.0 / 3.0 * M_PI);
-  EXPECT_LT(last, 4.0 / 3.0 * M_PI * 1.03);
+  EXPECT_LT(last, 4.0 / 3.0 * M_PI * 1.05);
   // Every vertex lies on at least three faces and every face has at least 3 vertices.
   std::vector<ConvexCell::Names> names;
   ASSERT_TRUE(c.vertex_names(names));
   for (size_t v = 0; v < c.vertex_count(); ++v) EXPECT_GE(names[v].n, 3);
   for (size_t f = 0; f < c.face_count(); ++f) EXPECT_GE(c.face_size(f), 3u);
+}
+
+TEST(ConvexCell, MorePlanesThanItCanNameFailCleanly) {
+  // 300 tangent planes all stay faces: past kMaxPlanes the cut must report failure.
+  ConvexCell c;
+  c.reset_cube(2);
+  bool failed = false;
+  for (int i = 0; i < 300 && !failed; ++i) {
+    double z = 1 - 2 * (i + 0.5) / 300, phi = i * M_PI * (3 - std::sqrt(5.0));
+    double s = std::sqrt(1 - z * z);
+    failed = c.clip({s * std::cos(phi), s * std::sin(phi), z}, 1, i, kEps) == ConvexCell::Clip::Failed;
+  }
+  EXPECT_TRUE(failed);
+}
+
+TEST(ConvexCell, BoxOutsideBallHoldsTheCornersBeyondTheBall) {
+  ConvexCell c;
+  c.reset_cube(1);
+  Vec3 lo, hi;
+  EXPECT_FALSE(c.box_outside_ball(3.0, lo, hi));  // the cube's corners are at radius sqrt(3)
+  // Radius 1.5: the eight corner regions stick out, so the box is the whole cube.
+  ASSERT_TRUE(c.box_outside_ball(2.25, lo, hi));
+  EXPECT_NEAR(hi.z, 1, 1e-15);
+  EXPECT_NEAR(lo.z, -1, 1e-15);
+  // Cut away every corner region below z = 0.9: a single corner (1,1,1) remains outside.
+  ASSERT_EQ(c.clip({0, 0, -1}, -0.9, 7, kEps), ConvexCell::Clip::Cut);
+  ASSERT_EQ(c.clip({-1, 0, 0}, 0, 8, kEps), ConvexCell::Clip::Cut);
+  ASSERT_EQ(c.clip({0, -1, 0}, 0, 9, kEps), ConvexCell::Clip::Cut);
+  ASSERT_TRUE(c.box_outside_ball(2.25, lo, hi));
+  // The part of [0,1]^2 x [0.9,1] outside radius 1.5: x, y above sqrt(2.25 - 1 - 1) = 0.5.
+  EXPECT_NEAR(lo.x, 0.5, 1e-12);
+  EXPECT_NEAR(lo.y, 0.5, 1e-12);
+  EXPECT_NEAR(lo.z, 0.9, 1e-12);
+  EXPECT_NEAR(hi.x, 1, 1e-15);
 }
 
 }  // namespace
