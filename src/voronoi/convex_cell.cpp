@@ -180,29 +180,6 @@ double ConvexCell::max_radius2() const {
   return rmax2_;
 }
 
-bool ConvexCell::box_outside_ball(double radius2, Vec3& lo, Vec3& hi) const {
-  bool any = false;
-  auto add = [&](Vec3 p) {
-    if (!any) lo = hi = p, any = true;
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-  };
-  for (size_t t = 0; t < tri_.size(); ++t) {
-    const Vec3 a = pos_[t];
-    if (norm2(a) <= radius2) continue;
-    add(a);
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 b = pos_[tri_[t].adj[k]];
-      if (norm2(b) > radius2) continue;
-      // The edge from b (inside) to a (outside) leaves the ball at b + s (a - b), s in [0, 1].
-      const Vec3 d = a - b;
-      const double qa = norm2(d), qb = dot(b, d), qc = norm2(b) - radius2;
-      const double s = (-qb + std::sqrt(std::max(0.0, qb * qb - qa * qc))) / qa;
-      add(b + std::clamp(s, 0.0, 1.0) * d);
-    }
-  }
-  return any;
-}
-
 uint16_t ConvexCell::find(uint16_t t) const {
   while (parent_[t] != t) t = parent_[t] = parent_[parent_[t]];
   return t;

@@ -48,12 +48,6 @@ class ConvexCell {
 
   // The largest squared distance of a vertex from the origin (the seed).
   double max_radius2() const;
-  // The bounding box of the cell's part outside the ball |p|^2 <= radius2, or false if there is
-  // none. That part lies in the convex hull of the vertices outside the ball and of the points
-  // where the edges leave it (a linear function's maximum over polytope-minus-ball is reached
-  // at one of those), so the box of those points contains it.
-  bool box_outside_ball(double radius2, Vec3& lo, Vec3& hi) const;
-
   // The faces as polygons, built on first use after a cut: vertices that coincide (snapped
   // degenerate vertices) are one.
   size_t vertex_count() const { return final().points.size(); }

@@ -125,26 +125,5 @@ TEST(ConvexCell, MorePlanesThanItCanNameFailCleanly) {
   EXPECT_TRUE(failed);
 }
 
-TEST(ConvexCell, BoxOutsideBallHoldsTheCornersBeyondTheBall) {
-  ConvexCell c;
-  c.reset_cube(1);
-  Vec3 lo, hi;
-  EXPECT_FALSE(c.box_outside_ball(3.0, lo, hi));  // the cube's corners are at radius sqrt(3)
-  // Radius 1.5: the eight corner regions stick out, so the box is the whole cube.
-  ASSERT_TRUE(c.box_outside_ball(2.25, lo, hi));
-  EXPECT_NEAR(hi.z, 1, 1e-15);
-  EXPECT_NEAR(lo.z, -1, 1e-15);
-  // Cut away every corner region below z = 0.9: a single corner (1,1,1) remains outside.
-  ASSERT_EQ(c.clip({0, 0, -1}, -0.9, 7, kEps), ConvexCell::Clip::Cut);
-  ASSERT_EQ(c.clip({-1, 0, 0}, 0, 8, kEps), ConvexCell::Clip::Cut);
-  ASSERT_EQ(c.clip({0, -1, 0}, 0, 9, kEps), ConvexCell::Clip::Cut);
-  ASSERT_TRUE(c.box_outside_ball(2.25, lo, hi));
-  // The part of [0,1]^2 x [0.9,1] outside radius 1.5: x, y above sqrt(2.25 - 1 - 1) = 0.5.
-  EXPECT_NEAR(lo.x, 0.5, 1e-12);
-  EXPECT_NEAR(lo.y, 0.5, 1e-12);
-  EXPECT_NEAR(lo.z, 0.9, 1e-12);
-  EXPECT_NEAR(hi.x, 1, 1e-15);
-}
-
 }  // namespace
 }  // namespace froth
