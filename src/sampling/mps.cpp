@@ -310,12 +310,27 @@ class Sampler {
       return a.time != b.time ? a.time < b.time : a.base < b.base;
     });
     const std::vector<uint8_t> accepted = accept_in_arrival_order(all);
-    for (size_t c = 0; c < all.size(); ++c) {
-      if (!accepted[c]) continue;
+    // New seeds are numbered in Morton order of their cubes, so the seeds that neighbour
+    // queries read together lie together in memory (the arrival order scatters them).
+    std::vector<std::pair<uint64_t, uint32_t>> order;
+    for (size_t c = 0; c < all.size(); ++c)
+      if (accepted[c]) order.push_back({morton(all[c].base), uint32_t(c)});
+    std::sort(order.begin(), order.end());
+    for (const auto& [key, c] : order) {
       s_.cube_seed[all[c].base] = int32_t(s_.seeds.size());
       buckets_.insert(int32_t(s_.seeds.size()), all[c].p);
       s_.seeds.push_back(all[c].p);
     }
+  }
+
+  // Interleaved bits of a base cube's coordinates.
+  uint64_t morton(int64_t b) const {
+    const auto& g = s_.grid;
+    const uint64_t c[3] = {uint64_t(b % g.nx), uint64_t((b / g.nx) % g.ny), uint64_t(b / (int64_t(g.nx) * g.ny))};
+    uint64_t key = 0;
+    for (int bit = 0; bit < 21; ++bit)
+      for (int a = 0; a < 3; ++a) key |= ((c[a] >> bit) & 1) << (3 * bit + a);
+    return key;
   }
 
   // Greedy in arrival order (`all` is sorted by time), computed in parallel: a candidate is
