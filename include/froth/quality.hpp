@@ -1,0 +1,69 @@
+// Cell quality (paper §3): outradius, inradius, aspect ratio, dihedral angles by class, shortest
+// edge; summaries per cell kind with histograms, and the count of cells outside the paper's
+// bounds (Theorem 1: interior aspect ratio at most 2; Lemma 6: interior dihedrals in [60°, 150°],
+// border-interior dihedrals in [30°, 150°]).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+struct CellQuality {
+  double outradius = 0;     // radius of the smallest sphere enclosing the cell's vertices
+  double inradius = 0;      // radius of the largest ball inside the cell (convex cells)
+  double aspect = 0;        // outradius / inradius
+  double min_dihedral = 0;  // degrees, over the cell's edges
+  double max_dihedral = 0;
+  double min_edge = 0;
+  uint32_t faces = 0, vertices = 0;
+};
+
+// Per-cell metrics of cell c. The inradius is the largest ball on the inner side of every
+// face's plane (a linear program): exact for convex cells, which froth's cells are before
+// welding; after welding faces are slightly non-planar and their best-fit planes are used.
+CellQuality cell_quality(const PolyMesh& mesh, size_t c);
+
+// Edges between two faces, by the faces' kinds.
+enum class DihedralClass : uint8_t { InteriorInterior = 0, BorderInterior = 1, BorderBorder = 2 };
+
+struct Histogram {
+  double lo = 0, hi = 0;         // range; values outside land in the end bins
+  std::vector<uint64_t> counts;  // equal-width bins
+  void add(double v);
+};
+
+struct Summary {
+  uint64_t count = 0;
+  double min = 0, max = 0, sum = 0;
+  double mean() const { return count ? sum / double(count) : 0; }
+  void add(double v);
+  void merge(const Summary& o);
+};
+
+struct QualityReport {
+  static constexpr int kKinds = 4;    // CellKind
+  static constexpr int kClasses = 3;  // DihedralClass
+  std::array<uint64_t, kKinds> cells{};
+  std::array<Summary, kKinds> aspect, outradius, inradius, min_edge, faces;
+  std::array<Histogram, kKinds> aspect_histogram;
+  std::array<Summary, kClasses> dihedral;
+  std::array<Histogram, kClasses> dihedral_histogram;
+  // Bounds from the paper, checked when r > 0 and the mesh is not welded: interior cells with
+  // aspect ratio above 2 (Theorem 1), interior cells with an interior-interior dihedral outside
+  // [60°, 150°] (Lemma 6), cells with a border-interior dihedral outside [30°, 150°] (Lemma 6).
+  uint64_t theorem1_violations = 0, lemma6_interior_violations = 0, lemma6_border_violations = 0;
+  double shortest_edge = 0;
+};
+
+// Metrics of every cell (into per_cell if given) and their summary. Uses all threads; the
+// result does not depend on their number.
+QualityReport assess_quality(const PolyMesh& mesh, std::vector<CellQuality>* per_cell = nullptr);
+
+// The report as JSON text (schema: docs/quality-report.schema.json).
+std::string quality_json_text(const QualityReport& q);
+
+}  // namespace froth

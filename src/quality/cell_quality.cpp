@@ -1,0 +1,263 @@
+// Per-cell quality metrics and their summary (paper §3, Theorem 1 and Lemma 6).
+#include <CGAL/Min_sphere_of_points_d_traits_3.h>
+#include <CGAL/Min_sphere_of_spheres_d.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "froth/quality.hpp"
+#include "quality/inscribed_ball.hpp"
+
+namespace froth {
+namespace {
+
+using Kernel = CGAL::Simple_cartesian<double>;
+// Welzl-type exact algorithm (Fischer & Gärtner's Min_sphere_of_spheres_d), radius in doubles.
+using MinSphere = CGAL::Min_sphere_of_spheres_d<CGAL::Min_sphere_of_points_d_traits_3<Kernel, double, CGAL::Tag_true>>;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = 180 / kPi;
+// Bounds of the paper, with room for round-off only.
+constexpr double kTheorem1Aspect = 2 * (1 + 1e-9);
+constexpr double kAngleSlack = 1e-7;  // degrees
+
+struct CellScratch {
+  std::vector<int32_t> ids;
+  std::vector<Kernel::Point_3> points;
+  std::vector<Vec3> normals;
+  std::vector<double> offsets;
+  std::vector<bool> border;
+  struct EdgeUse {
+    int32_t a, b;  // a < b
+    uint32_t face;
+  };
+  std::vector<EdgeUse> edges;
+};
+
+struct Dihedral {
+  double degrees;
+  DihedralClass cls;
+};
+
+// Fills everything but the summary; `angles` receives each edge's dihedral.
+CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dihedral>* angles) {
+  CellQuality q;
+  const Vec3 o = m.seeds[c];
+  const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+  w.ids.clear();
+  w.normals.clear();
+  w.offsets.clear();
+  w.border.clear();
+  w.edges.clear();
+  for (int64_t f = f0; f < f1; ++f) {
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    // Newell's normal and the centroid: the best-fit plane of a (possibly welded) face.
+    Vec3 n{}, centroid{};
+    for (int64_t k = b; k < e; ++k) {
+      const Vec3 u = m.points[m.face_vertices[k]] - o, v = m.points[m.face_vertices[k + 1 < e ? k + 1 : b]] - o;
+      n = n + cross(u, v);
+      centroid = centroid + u;
+      w.ids.push_back(m.face_vertices[k]);
+      const int32_t a = m.face_vertices[k], bb = m.face_vertices[k + 1 < e ? k + 1 : b];
+      w.edges.push_back({std::min(a, bb), std::max(a, bb), uint32_t(f - f0)});
+    }
+    centroid = (1.0 / double(e - b)) * centroid;
+    const double len = norm(n);
+    n = len > 0 ? (1 / len) * n : n;
+    w.normals.push_back(n);
+    w.offsets.push_back(dot(n, centroid));
+    w.border.push_back(is_border_generator(m.face_generator[f]));
+  }
+  std::sort(w.ids.begin(), w.ids.end());
+  w.ids.erase(std::unique(w.ids.begin(), w.ids.end()), w.ids.end());
+  q.faces = uint32_t(f1 - f0);
+  q.vertices = uint32_t(w.ids.size());
+
+  w.points.clear();
+  for (int32_t v : w.ids) {
+    const Vec3 p = m.points[v] - o;
+    w.points.emplace_back(p.x, p.y, p.z);
+  }
+  MinSphere sphere(w.points.begin(), w.points.end());
+  q.outradius = sphere.radius();
+  const InscribedBall ball = largest_inscribed_ball(w.normals, w.offsets);
+  q.inradius = ball.ok ? ball.radius : 0;
+  q.aspect = q.inradius > 0 ? q.outradius / q.inradius : INFINITY;
+
+  // Each edge is used by two faces of a closed cell: pair them up.
+  std::sort(w.edges.begin(), w.edges.end(), [](const auto& x, const auto& y) {
+    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.face < y.face);
+  });
+  q.min_dihedral = INFINITY, q.max_dihedral = -INFINITY, q.min_edge = INFINITY;
+  for (size_t k = 0; k + 1 < w.edges.size(); ++k) {
+    const auto& x = w.edges[k];
+    const auto& y = w.edges[k + 1];
+    if (x.a != y.a || x.b != y.b) continue;
+    ++k;
+    q.min_edge = std::min(q.min_edge, norm(m.points[x.a] - m.points[x.b]));
+    // The angle inside the cell between two faces is pi minus the angle of their outward normals.
+    const double cosine = std::clamp(dot(w.normals[x.face], w.normals[y.face]), -1.0, 1.0);
+    const double angle = 180 - std::acos(cosine) * kDegree;
+    q.min_dihedral = std::min(q.min_dihedral, angle);
+    q.max_dihedral = std::max(q.max_dihedral, angle);
+    if (angles) {
+      const int borders = int(w.border[x.face]) + int(w.border[y.face]);
+      angles->push_back({angle, DihedralClass(borders)});
+    }
+  }
+  return q;
+}
+
+constexpr int kAspectBins = 60;
+constexpr double kAspectLo = 1, kAspectHi = 4;
+constexpr int kDihedralBins = 90;
+
+QualityReport empty_report() {
+  QualityReport r;
+  for (auto& h : r.aspect_histogram) h = {kAspectLo, kAspectHi, std::vector<uint64_t>(kAspectBins, 0)};
+  for (auto& h : r.dihedral_histogram) h = {0, 180, std::vector<uint64_t>(kDihedralBins, 0)};
+  return r;
+}
+
+void merge(QualityReport& into, const QualityReport& from) {
+  for (int k = 0; k < QualityReport::kKinds; ++k) {
+    into.cells[k] += from.cells[k];
+    into.aspect[k].merge(from.aspect[k]);
+    into.outradius[k].merge(from.outradius[k]);
+    into.inradius[k].merge(from.inradius[k]);
+    into.min_edge[k].merge(from.min_edge[k]);
+    into.faces[k].merge(from.faces[k]);
+    for (size_t b = 0; b < into.aspect_histogram[k].counts.size(); ++b)
+      into.aspect_histogram[k].counts[b] += from.aspect_histogram[k].counts[b];
+  }
+  for (int k = 0; k < QualityReport::kClasses; ++k) {
+    into.dihedral[k].merge(from.dihedral[k]);
+    for (size_t b = 0; b < into.dihedral_histogram[k].counts.size(); ++b)
+      into.dihedral_histogram[k].counts[b] += from.dihedral_histogram[k].counts[b];
+  }
+  into.theorem1_violations += from.theorem1_violations;
+  into.lemma6_interior_violations += from.lemma6_interior_violations;
+  into.lemma6_border_violations += from.lemma6_border_violations;
+}
+
+}  // namespace
+
+void Histogram::add(double v) {
+  if (counts.empty()) return;
+  const double x = (v - lo) / (hi - lo) * double(counts.size());
+  const size_t bin = std::isnan(x) ? counts.size() - 1 : size_t(std::clamp(x, 0.0, double(counts.size() - 1)));
+  ++counts[bin];
+}
+
+void Summary::add(double v) {
+  if (count == 0) min = max = v;
+  min = std::min(min, v), max = std::max(max, v);
+  sum += v;
+  ++count;
+}
+
+void Summary::merge(const Summary& o) {
+  if (o.count == 0) return;
+  if (count == 0) {
+    *this = o;
+    return;
+  }
+  min = std::min(min, o.min), max = std::max(max, o.max);
+  sum += o.sum;
+  count += o.count;
+}
+
+CellQuality cell_quality(const PolyMesh& mesh, size_t c) {
+  CellScratch w;
+  return measure(mesh, c, w, nullptr);
+}
+
+QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_cell) {
+  constexpr size_t kChunk = 4096;  // fixed, so sums add up in one order for any thread count
+  const size_t n = m.cell_count(), chunks = (n + kChunk - 1) / kChunk;
+  std::vector<QualityReport> parts(chunks, empty_report());
+  if (per_cell) per_cell->resize(n);
+#pragma omp parallel
+  {
+    CellScratch w;
+    std::vector<Dihedral> angles;
+#pragma omp for schedule(dynamic, 1)
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      QualityReport& r = parts[ch];
+      for (size_t c = ch * kChunk; c < std::min(n, (ch + 1) * kChunk); ++c) {
+        angles.clear();
+        const CellQuality q = measure(m, c, w, &angles);
+        if (per_cell) (*per_cell)[c] = q;
+        const int kind = int(m.kinds[c]);
+        ++r.cells[kind];
+        r.aspect[kind].add(q.aspect);
+        r.aspect_histogram[kind].add(q.aspect);
+        r.outradius[kind].add(q.outradius);
+        r.inradius[kind].add(q.inradius);
+        r.min_edge[kind].add(q.min_edge);
+        r.faces[kind].add(q.faces);
+        const bool interior = m.kinds[c] == CellKind::Interior;
+        if (interior && !(q.aspect <= kTheorem1Aspect)) ++r.theorem1_violations;
+        bool bad_interior = false, bad_border = false;
+        for (const Dihedral& d : angles) {
+          r.dihedral[int(d.cls)].add(d.degrees);
+          r.dihedral_histogram[int(d.cls)].add(d.degrees);
+          if (d.cls == DihedralClass::InteriorInterior && interior)
+            bad_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+          if (d.cls == DihedralClass::BorderInterior)
+            bad_border |= d.degrees < 30 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+        }
+        r.lemma6_interior_violations += bad_interior;
+        r.lemma6_border_violations += bad_border;
+      }
+    }
+  }
+  QualityReport all = empty_report();
+  for (const auto& p : parts) merge(all, p);
+  double shortest = INFINITY;
+  for (const auto& s : all.min_edge)
+    if (s.count) shortest = std::min(shortest, s.min);
+  all.shortest_edge = std::isfinite(shortest) ? shortest : 0;
+  return all;
+}
+
+std::string quality_json_text(const QualityReport& q) {
+  static const char* kinds[] = {"interior", "fringe", "edge", "vertex"};
+  static const char* classes[] = {"interior_interior", "border_interior", "border_border"};
+  auto summary = [](const Summary& s) {
+    return nlohmann::ordered_json{{"min", s.min}, {"mean", s.mean()}, {"max", s.max}};
+  };
+  auto histogram = [](const Histogram& h) {
+    return nlohmann::ordered_json{{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
+  };
+  nlohmann::ordered_json j;
+  for (int k = 0; k < QualityReport::kKinds; ++k) {
+    if (q.cells[k] == 0) continue;
+    j["cells"][kinds[k]] = {{"count", q.cells[k]},
+                            {"aspect", summary(q.aspect[k])},
+                            {"outradius", summary(q.outradius[k])},
+                            {"inradius", summary(q.inradius[k])},
+                            {"min_edge", summary(q.min_edge[k])},
+                            {"faces", summary(q.faces[k])},
+                            {"aspect_histogram", histogram(q.aspect_histogram[k])}};
+  }
+  for (int k = 0; k < QualityReport::kClasses; ++k) {
+    if (q.dihedral[k].count == 0) continue;
+    j["dihedral_degrees"][classes[k]] = {{"edges", q.dihedral[k].count},
+                                         {"summary", summary(q.dihedral[k])},
+                                         {"histogram", histogram(q.dihedral_histogram[k])}};
+  }
+  j["shortest_edge"] = q.shortest_edge;
+  j["bounds"] = {{"theorem1_interior_aspect_max", 2.0},
+                 {"lemma6_interior_dihedral_degrees", {60.0, 150.0}},
+                 {"lemma6_border_interior_dihedral_degrees", {30.0, 150.0}},
+                 {"theorem1_violations", q.theorem1_violations},
+                 {"lemma6_interior_violations", q.lemma6_interior_violations},
+                 {"lemma6_border_violations", q.lemma6_border_violations}};
+  return j.dump(2) + "\n";
+}
+
+}  // namespace froth

@@ -1,0 +1,78 @@
+#include "quality/inscribed_ball.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace froth {
+
+InscribedBall largest_inscribed_ball(const std::vector<Vec3>& normals, const std::vector<double>& offsets) {
+  // Dictionary: x_B[i] = beta[i] - sum_k D[i][k] x_N[k];  z = z0 + sum_k gamma[k] x_N[k].
+  // Variables 0..3 are c.x, c.y, c.z, t (free); 4 + f is the slack of face f (>= 0).
+  const size_t m = normals.size();
+  std::vector<std::array<double, 4>> D(m);
+  std::vector<double> beta(m);
+  std::vector<int> basic(m);
+  std::array<int, 4> nonbasic = {0, 1, 2, 3};
+  std::array<double, 4> gamma = {0, 0, 0, 1};
+  std::array<bool, 4> negated = {false, false, false, false};
+  double z0 = 0;
+  double scale = 0;
+  for (size_t f = 0; f < m; ++f) {
+    D[f] = {normals[f].x, normals[f].y, normals[f].z, 1};
+    beta[f] = std::max(0.0, offsets[f]);  // the origin is inside, up to round-off
+    basic[f] = int(4 + f);
+    scale = std::max(scale, std::abs(offsets[f]));
+  }
+  const double tol = 1e-12, rhs_tol = 1e-14 * std::max(scale, 1e-300);
+  auto is_free = [](int v) { return v < 4; };
+  for (int iter = 0; iter < 1000; ++iter) {
+    // Entering variable: the smallest index that improves z (Bland).
+    int k = -1;
+    for (int j = 0; j < 4; ++j) {
+      const bool improves = is_free(nonbasic[j]) ? std::abs(gamma[j]) > tol : gamma[j] > tol;
+      if (improves && (k < 0 || nonbasic[j] < nonbasic[k])) k = j;
+    }
+    if (k < 0) break;  // optimal
+    if (gamma[k] < 0) {  // a free variable that should decrease: work with its negative
+      for (size_t i = 0; i < m; ++i) D[i][k] = -D[i][k];
+      gamma[k] = -gamma[k];
+      negated[nonbasic[k]] = !negated[nonbasic[k]];
+    }
+    // Leaving variable: the tightest bounded row (ties to the smallest index).
+    int leave = -1;
+    double best = 0;
+    for (size_t i = 0; i < m; ++i) {
+      if (is_free(basic[i]) || D[i][k] <= tol) continue;
+      const double ratio = std::max(beta[i], 0.0) / D[i][k];
+      if (leave < 0 || ratio < best - rhs_tol || (ratio <= best + rhs_tol && basic[i] < basic[leave]))
+        leave = int(i), best = ratio;
+    }
+    if (leave < 0) return {};
+    // Pivot: the entering variable takes row i's place.
+    const size_t i = size_t(leave);
+    const double p = D[i][k];
+    beta[i] /= p;
+    for (int j = 0; j < 4; ++j) D[i][j] = j == k ? 1 / p : D[i][j] / p;
+    for (size_t r = 0; r < m; ++r) {
+      const double q = D[r][k];
+      if (r == i || q == 0) continue;
+      beta[r] -= q * beta[i];
+      for (int j = 0; j < 4; ++j) D[r][j] = j == k ? -q * D[i][k] : D[r][j] - q * D[i][j];
+    }
+    const double g = gamma[k];
+    z0 += g * beta[i];
+    for (int j = 0; j < 4; ++j) gamma[j] = j == k ? -g * D[i][k] : gamma[j] - g * D[i][j];
+    std::swap(basic[i], nonbasic[k]);
+  }
+  InscribedBall out;
+  double x[4] = {0, 0, 0, 0};
+  for (size_t i = 0; i < m; ++i)
+    if (is_free(basic[i])) x[basic[i]] = negated[basic[i]] ? -beta[i] : beta[i];
+  out.center = {x[0], x[1], x[2]};
+  out.radius = z0;
+  out.ok = true;
+  return out;
+}
+
+}  // namespace froth

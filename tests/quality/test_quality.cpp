@@ -1,0 +1,205 @@
+// Quality metrics on shapes with known answers, against exact oracles on random convex cells
+// (CGAL's exact linear-program solver for the inradius, Min_sphere_d in exact arithmetic for the
+// outradius), and the paper's bounds on whole meshes.
+#include <gtest/gtest.h>
+
+#include <CGAL/Cartesian_d.h>
+#include <CGAL/Gmpq.h>
+#include <CGAL/Gmpzf.h>
+#include <CGAL/Min_sphere_annulus_d_traits_d.h>
+#include <CGAL/Min_sphere_d.h>
+#include <CGAL/QP_functions.h>
+#include <CGAL/QP_models.h>
+#include <CGAL/Simple_cartesian.h>
+
+#include <cmath>
+#include <random>
+
+#include "common/test_support.hpp"
+#include "froth/quality.hpp"
+#include "voronoi/convex_cell.hpp"
+
+namespace froth {
+namespace {
+
+constexpr double kEps = 1e-12;
+
+// A one-cell mesh (seed at the origin) from a convex cell; faces of generators in `border` are
+// border faces.
+PolyMesh mesh_of(const ConvexCell& cell, const std::vector<int32_t>& border = {}) {
+  PolyMesh m;
+  for (size_t v = 0; v < cell.vertex_count(); ++v) m.points.push_back(cell.vertex(v));
+  m.seeds = {{0, 0, 0}};
+  m.kinds = {CellKind::Interior};
+  for (size_t f = 0; f < cell.face_count(); ++f) {
+    const int32_t g = cell.face_generator(f);
+    m.face_generator.push_back(std::find(border.begin(), border.end(), g) != border.end() ? plane_generator(0) : 1);
+    for (size_t k = 0; k < cell.face_size(f); ++k) m.face_vertices.push_back(cell.face_begin(f)[k]);
+    m.face_vertex_begin.push_back(int64_t(m.face_vertices.size()));
+  }
+  m.cell_face_begin.push_back(int64_t(m.face_generator.size()));
+  return m;
+}
+
+TEST(Quality, CubeHasAspectSqrt3AndRightAngles) {
+  ConvexCell c;
+  c.reset_cube(1);
+  const CellQuality q = cell_quality(mesh_of(c), 0);
+  EXPECT_NEAR(q.outradius, std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(q.inradius, 1, 1e-12);
+  EXPECT_NEAR(q.aspect, std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(q.min_dihedral, 90, 1e-9);
+  EXPECT_NEAR(q.max_dihedral, 90, 1e-9);
+  EXPECT_NEAR(q.min_edge, 2, 1e-12);
+  EXPECT_EQ(q.faces, 6u);
+  EXPECT_EQ(q.vertices, 8u);
+}
+
+TEST(Quality, RegularTetrahedronHasAspectThree) {
+  ConvexCell c;
+  c.reset_cube(4);
+  // Faces at distance 1 with normals toward alternate cube corners: a regular tetrahedron of
+  // inradius 1, circumradius 3, dihedral angle acos(1/3).
+  const double s = 1 / std::sqrt(3.0);
+  for (Vec3 n : {Vec3{s, s, s}, Vec3{s, -s, -s}, Vec3{-s, s, -s}, Vec3{-s, -s, s}})
+    ASSERT_EQ(c.clip(n, 1, 1, kEps), ConvexCell::Clip::Cut);
+  const CellQuality q = cell_quality(mesh_of(c), 0);
+  EXPECT_NEAR(q.inradius, 1, 1e-12);
+  EXPECT_NEAR(q.outradius, 3, 1e-12);
+  EXPECT_NEAR(q.aspect, 3, 1e-12);
+  EXPECT_NEAR(q.min_dihedral, std::acos(1 / 3.0) * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(q.min_edge, std::sqrt(24.0), 1e-12);
+}
+
+TEST(Quality, TruncatedOctahedron) {
+  // The cell of the body-centred cubic lattice: vertices are the permutations of (0, ±1, ±2);
+  // squares at distance 2, hexagons at distance sqrt(3); outradius sqrt(5).
+  ConvexCell c;
+  c.reset_cube(3);
+  const double s = 1 / std::sqrt(3.0);
+  for (int k = 0; k < 8; ++k)
+    c.clip({(k & 1) ? s : -s, (k & 2) ? s : -s, (k & 4) ? s : -s}, std::sqrt(3.0), 1, kEps);
+  for (int a = 0; a < 3; ++a)
+    for (double sign : {-1.0, 1.0}) {
+      Vec3 n{};
+      (a == 0 ? n.x : a == 1 ? n.y : n.z) = sign;
+      c.clip(n, 2, 1, kEps);
+    }
+  const CellQuality q = cell_quality(mesh_of(c), 0);
+  EXPECT_EQ(q.faces, 14u);
+  EXPECT_EQ(q.vertices, 24u);
+  EXPECT_NEAR(q.outradius, std::sqrt(5.0), 1e-12);
+  EXPECT_NEAR(q.inradius, std::sqrt(3.0), 1e-12);
+  EXPECT_NEAR(q.min_edge, std::sqrt(2.0), 1e-12);
+  // Hexagon-hexagon edges: acos(-1/3) = 109.47°; square-hexagon: 125.26°.
+  EXPECT_NEAR(q.min_dihedral, std::acos(-1 / 3.0) * 180 / M_PI, 1e-9);
+  EXPECT_NEAR(q.max_dihedral, std::acos(-1 / std::sqrt(3.0)) * 180 / M_PI, 1e-9);
+}
+
+TEST(Quality, ThinSlab) {
+  ConvexCell c;
+  c.reset_cube(5);
+  c.clip({0, 0, 1}, 0.05, 1, kEps);
+  c.clip({0, 0, -1}, 0.05, 1, kEps);
+  const CellQuality q = cell_quality(mesh_of(c), 0);
+  EXPECT_NEAR(q.inradius, 0.05, 1e-12);
+  EXPECT_NEAR(q.outradius, std::sqrt(25 + 25 + 0.0025), 1e-12);
+  EXPECT_NEAR(q.aspect, std::sqrt(50.0025) / 0.05, 1e-9);
+  EXPECT_NEAR(q.min_edge, 0.1, 1e-12);
+}
+
+// Random convex cells against exact oracles.
+TEST(Quality, RandomConvexCellsMatchExactOracles) {
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> offset(0.3, 1.5);
+  using QP = CGAL::Quadratic_program<double>;
+  using Kd = CGAL::Cartesian_d<CGAL::Gmpq>;
+  using Traits = CGAL::Min_sphere_annulus_d_traits_d<Kd>;
+  for (int trial = 0; trial < 60; ++trial) {
+    ConvexCell c;
+    c.reset_cube(3);
+    std::vector<Vec3> normals;
+    std::vector<double> offsets;
+    const int planes = 4 + trial % 30;
+    for (int i = 0; i < planes; ++i) {
+      Vec3 n{normal(gen), normal(gen), normal(gen)};
+      n = (1 / norm(n)) * n;
+      const double d = offset(gen);
+      if (c.clip(n, d, 1, kEps) == ConvexCell::Clip::Cut) normals.push_back(n), offsets.push_back(d);
+    }
+    const CellQuality q = cell_quality(mesh_of(c), 0);
+    // Inradius: maximise t subject to n.x + t <= d over the cell's faces (cube faces included).
+    QP lp(CGAL::SMALLER, false, 0, false, 0);
+    for (size_t f = 0; f < c.face_count(); ++f) {
+      const uint16_t* fv = c.face_begin(f);
+      Vec3 a = c.vertex(fv[0]), b = c.vertex(fv[1]), d3 = c.vertex(fv[2]);
+      Vec3 n = cross(b - a, d3 - a);
+      n = (1 / norm(n)) * n;
+      lp.set_a(0, int(f), n.x), lp.set_a(1, int(f), n.y), lp.set_a(2, int(f), n.z), lp.set_a(3, int(f), 1);
+      lp.set_b(int(f), dot(n, a));
+    }
+    lp.set_c(3, -1);
+    const auto sol = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
+    ASSERT_TRUE(sol.is_optimal());
+    EXPECT_NEAR(q.inradius, -CGAL::to_double(sol.objective_value()), 1e-9) << trial;
+    // Outradius: Min_sphere_d in exact rational arithmetic.
+    std::vector<Kd::Point_d> pts;
+    for (size_t v = 0; v < c.vertex_count(); ++v) {
+      const Vec3 p = c.vertex(v);
+      const CGAL::Gmpq xyz[3] = {p.x, p.y, p.z};
+      pts.emplace_back(3, xyz, xyz + 3);
+    }
+    CGAL::Min_sphere_d<Traits> ms(pts.begin(), pts.end());
+    EXPECT_NEAR(q.outradius, std::sqrt(CGAL::to_double(ms.squared_radius())), 1e-9) << trial;
+  }
+}
+
+// Whole meshes, welding off: no interior cell beyond the paper's bounds.
+TEST(Quality, MeshesRespectTheoremOneAndLemmaSix) {
+  for (const char* domain : {"box:0,0,0,1,1,1", "sphere"}) {
+    ConvexDomain d = load_domain(std::string(domain) == "sphere" ? test::model("unit_sphere.STL") : domain);
+    MeshOptions opt;
+    opt.r = 0.1;
+    opt.seed = 5;
+    PolyMesh m = generate_mesh(d, opt, nullptr);
+    std::vector<CellQuality> cells;
+    QualityReport q = assess_quality(m, &cells);
+    EXPECT_EQ(q.cells[0] + q.cells[1], m.cell_count());
+    EXPECT_GT(q.cells[0], 100u);
+    EXPECT_EQ(q.theorem1_violations, 0u) << domain;
+    EXPECT_EQ(q.lemma6_interior_violations, 0u) << domain;
+    EXPECT_EQ(q.lemma6_border_violations, 0u) << domain;
+    EXPECT_LE(q.aspect[0].max, 2.0);
+    EXPECT_GE(q.dihedral[0].min, 60 - 1e-7);
+    EXPECT_LE(q.dihedral[0].max, 150 + 1e-7);
+    // Lemmas 1 and 2 bound the radii themselves: R_o <= r, R_i >= r/2 for interior cells.
+    for (size_t c = 0; c < m.cell_count(); ++c) {
+      EXPECT_LE(cells[c].outradius, opt.r * (1 + 1e-9));
+      if (m.kinds[c] == CellKind::Interior) EXPECT_GE(cells[c].inradius, opt.r / 2 * (1 - 1e-9));
+    }
+    // The histograms count every cell and every edge twice (once per cell around it) at most.
+    uint64_t binned = 0;
+    for (auto v : q.aspect_histogram[0].counts) binned += v;
+    EXPECT_EQ(binned, q.cells[0]);
+  }
+}
+
+// A bad mesh is seen: flatten one cell and its aspect ratio and dihedrals leave the bounds.
+TEST(Quality, DetectsAFlattenedCell) {
+  ConvexCell c;
+  c.reset_cube(1);
+  c.clip({0, 0, 1}, 0.05, 1, kEps);
+  PolyMesh m = mesh_of(c);
+  QualityReport q = assess_quality(m);
+  EXPECT_EQ(q.theorem1_violations, 1u);
+  EXPECT_EQ(q.lemma6_interior_violations, 0u);  // right angles: within [60, 150]
+  // A plane meeting the top face at a 30° edge.
+  ASSERT_EQ(c.clip({0.5, 0, -std::sqrt(0.75)}, 0.257, 1, kEps), ConvexCell::Clip::Cut);
+  q = assess_quality(mesh_of(c));
+  EXPECT_EQ(q.lemma6_interior_violations, 1u);
+  EXPECT_NEAR(q.dihedral[0].min, 30, 1e-9);
+}
+
+}  // namespace
+}  // namespace froth
