@@ -21,11 +21,24 @@ struct MeshArgs {
   double weld = 0;
   int threads = 0;
   std::string report;
+  bool no_quality = false;
 };
 
 std::string default_output(const std::string& input) {
   if (input.rfind("box:", 0) == 0) return "box.vtu";
   return std::filesystem::path(input).stem().string() + ".vtu";
+}
+
+std::string quality_sentence(const froth::RunReport& run) {
+  if (!run.quality) return "";
+  const froth::QualityReport& q = *run.quality;
+  const auto& in = q.aspect[0];
+  const auto& ii = q.dihedral[0];
+  return fmt::format(
+      " Quality: interior aspect ratio {:.3f} to {:.3f} (mean {:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, "
+      "shortest edge {:.3g}; cells beyond the paper's bounds: {} (Theorem 1), {} and {} (Lemma 6).",
+      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, q.theorem1_violations, q.lemma6_interior_violations,
+      q.lemma6_border_violations);
 }
 
 void print_summary(const froth::RunReport& run, const std::string& output, double write_seconds) {
@@ -34,12 +47,12 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
   fmt::print(
       "froth: meshed {} with r = {} and seed {}: {} cells ({} interior, {} fringe) from {} seeds, "
       "{} faces, {} points; every interior face matched, every cell closed. Volume: cells sum {:.12g}, domain "
-      "{:.12g} (relative error {:.2e}). Sampling: {} darts, {} refinement levels, maximal. Time: {}writing {:.3f} s; "
-      "total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
+      "{:.12g} (relative error {:.2e}). Sampling: {} darts, {} refinement levels, maximal.{} Time: {}writing {:.3f} "
+      "s; total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
       run.domain, run.r, run.seed, run.cells, run.interior_cells, run.fringe_cells, run.sampling.seeds, run.faces,
       run.points, run.volume_sum, run.domain_volume, run.volume_relative_error(), run.sampling.darts,
-      run.sampling.levels, times, write_seconds, run.total_seconds + write_seconds, run.threads,
-      run.peak_rss_bytes / 1048576.0, output);
+      run.sampling.levels, quality_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
+      run.threads, run.peak_rss_bytes / 1048576.0, output);
 }
 
 int run_mesh(const MeshArgs& a) {
@@ -49,6 +62,7 @@ int run_mesh(const MeshArgs& a) {
   opt.seed = a.seed;
   opt.weld = a.weld;
   opt.threads = a.threads;
+  opt.quality = !a.no_quality;
   if (isatty(STDERR_FILENO))
     opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
   froth::RunReport run;
@@ -83,6 +97,7 @@ int main(int argc, char** argv) {
   mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
+  mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -5,4 +5,5 @@
 #include "froth/geometry.hpp"
 #include "froth/io.hpp"
 #include "froth/mesh.hpp"
+#include "froth/quality.hpp"
 #include "froth/validate.hpp"

@@ -46,6 +46,17 @@ inline bool is_border_generator(int32_t g) { return g < 0; }
 inline int32_t plane_generator(int32_t plane) { return -(plane + 1); }
 inline int32_t generator_plane(int32_t g) { return -g - 1; }
 
+// Quality metrics of one cell (see froth/quality.hpp).
+struct CellQuality {
+  double outradius = 0;     // radius of the smallest sphere enclosing the cell's vertices
+  double inradius = 0;      // radius of the largest ball inside the cell (convex cells)
+  double aspect = 0;        // outradius / inradius
+  double min_dihedral = 0;  // degrees, over the cell's edges
+  double max_dihedral = 0;
+  double min_edge = 0;
+  uint32_t faces = 0, vertices = 0;
+};
+
 // Cells, faces and points in compressed-row form. Cell c owns faces
 // [cell_face_begin[c], cell_face_begin[c+1]); face f has vertices
 // face_vertices[face_vertex_begin[f] .. face_vertex_begin[f+1]), counter-clockwise seen from
@@ -59,6 +70,7 @@ struct PolyMesh {
   Buffer<int32_t> face_generator;
   Buffer<int64_t> face_vertex_begin{0};
   Buffer<int32_t> face_vertices;
+  std::vector<CellQuality> quality;   // per cell when the quality stage ran, else empty
 
   size_t cell_count() const { return seeds.size(); }
   size_t face_count() const { return face_generator.size(); }
@@ -69,6 +81,7 @@ struct MeshOptions {
   uint64_t seed = 0;         // random seed: the mesh is a pure function of (domain, r, seed)
   double weld = 0;           // weld tolerance; this version does not weld (0 only)
   int threads = 0;           // 0 = all cores; never changes the result
+  bool quality = false;      // measure every cell (mesh.quality, report.quality)
   std::function<void(const std::string& stage)> progress;  // told when a stage starts
 };
 
@@ -94,6 +107,8 @@ struct SamplingStats {
   std::vector<SamplingLevel> per_level;
 };
 
+struct QualityReport;  // froth/quality.hpp
+
 struct RunReport {
   std::string domain;
   double r = 0;
@@ -105,6 +120,7 @@ struct RunReport {
   size_t faces = 0, points = 0;
   double domain_volume = 0, volume_sum = 0;
   std::vector<StageTiming> stages;
+  std::shared_ptr<const QualityReport> quality;  // when MeshOptions::quality
   double total_seconds = 0;
   size_t peak_rss_bytes = 0;
 

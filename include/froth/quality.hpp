@@ -12,16 +12,6 @@
 
 namespace froth {
 
-struct CellQuality {
-  double outradius = 0;     // radius of the smallest sphere enclosing the cell's vertices
-  double inradius = 0;      // radius of the largest ball inside the cell (convex cells)
-  double aspect = 0;        // outradius / inradius
-  double min_dihedral = 0;  // degrees, over the cell's edges
-  double max_dihedral = 0;
-  double min_edge = 0;
-  uint32_t faces = 0, vertices = 0;
-};
-
 // Per-cell metrics of cell c. The inradius is the largest ball on the inner side of every
 // face's plane (a linear program): exact for convex cells, which froth's cells are before
 // welding; after welding faces are slightly non-planar and their best-fit planes are used.

@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include "froth/io.hpp"
+#include "froth/quality.hpp"
 #include "io/atomic_file.hpp"
 
 namespace froth {
@@ -32,6 +33,7 @@ std::string report_json_text(const RunReport& run) {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
   for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;
+  if (run.quality) j["quality"] = nlohmann::ordered_json::parse(quality_json_text(*run.quality));
   j["seconds"] = stages;
   j["peak_memory_bytes_after_stage"] = peaks;
   j["seconds_total"] = run.total_seconds;

@@ -185,7 +185,26 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         for (CellKind k : m.kinds) vw.put(int32_t(k));
       },
       "Int32", "kind");
-  xml << raw_array(w, m.volumes, "Float64", "volume") << "</CellData>\n"
+  xml << raw_array(w, m.volumes, "Float64", "volume");
+  if (m.quality.size() == n) {
+    // Quality metrics, streamed field by field from the per-cell records.
+    auto field = [&](const char* name, double CellQuality::*member) {
+      xml << data_array(
+          w, n * 8,
+          [&m, member](std::ostream& out) {
+            ValueWriter<double> vw(out);
+            for (const CellQuality& q : m.quality) vw.put(q.*member);
+          },
+          "Float64", name);
+    };
+    field("aspect", &CellQuality::aspect);
+    field("outradius", &CellQuality::outradius);
+    field("inradius", &CellQuality::inradius);
+    field("min_dihedral", &CellQuality::min_dihedral);
+    field("max_dihedral", &CellQuality::max_dihedral);
+    field("min_edge", &CellQuality::min_edge);
+  }
+  xml << "</CellData>\n"
       << "</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
   write_atomically(path, [&](std::ostream& out) {
     out << xml.str();

@@ -11,6 +11,7 @@
 
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
+#include "froth/quality.hpp"
 #include "froth/validate.hpp"
 #include "sampling/mps.hpp"
 #include "voronoi/tessellation.hpp"
@@ -101,6 +102,12 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
                                           "non-positive cells); first: {}",
                                           check.unmatched_faces, check.open_cells, check.nonpositive_cells,
                                           check.first_problem));
+
+  if (opt.quality) {
+    progress("quality");
+    run.quality = std::make_shared<const QualityReport>(assess_quality(mesh, &mesh.quality));
+    run.stages.push_back({"quality", watch.lap(), peak_rss_bytes()});
+  }
 
   run.cells = mesh.cell_count();
   run.faces = mesh.face_count();

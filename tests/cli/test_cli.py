@@ -84,6 +84,21 @@ for name, domain, r, volume in [("box", "box:0,0,0,1,2,1", 0.12, 2.0),
     check(abs(fd.GetArray("r").GetValue(0) - r) == 0, f"{name}: field r")
     check(fd.GetArray("random_seed").GetValue(0) == 7, f"{name}: field random_seed")
     check(fd.GetArray("weld") is not None and fd.GetArray("version") is not None, f"{name}: field weld/version")
+    # Quality cell data, consistent with the report: the aspect ratio is outradius / inradius,
+    # and interior cells keep the paper's bounds (Theorem 1, Lemma 6).
+    q = {k: vtk_to_numpy(cd.GetArray(k)) for k in
+         ("aspect", "outradius", "inradius", "min_dihedral", "max_dihedral", "min_edge")}
+    check(np.allclose(q["aspect"], q["outradius"] / q["inradius"], rtol=1e-12), f"{name}: aspect = Ro/Ri")
+    check(np.all(q["outradius"] <= r * (1 + 1e-9)), f"{name}: outradius <= r (Lemma 1)")
+    interior = kind == 0
+    check(np.all(q["aspect"][interior] <= 2), f"{name}: interior aspect <= 2")
+    check(np.all(q["min_dihedral"][interior] >= 60 - 1e-7) and np.all(q["max_dihedral"][interior] <= 150 + 1e-7),
+          f"{name}: interior dihedrals in [60, 150]")
+    rq = report["quality"]
+    check(abs(rq["cells"]["interior"]["aspect"]["max"] - q["aspect"][interior].max()) < 1e-12,
+          f"{name}: report and VTU agree on the interior aspect ratio")
+    check(rq["bounds"]["theorem1_violations"] == 0, f"{name}: report counts no Theorem 1 violation")
+    check(abs(rq["shortest_edge"] - q["min_edge"].min()) < 1e-15, f"{name}: shortest edge")
 
     # meshio 7.0.0 parses the polyhedra and cell data. (Its Mesh constructor then pairs cell data
     # with blocks in the wrong order when polyhedra differ in vertex count: upstream meshio
