@@ -18,7 +18,7 @@ struct MeshArgs {
   double r = 0;
   uint64_t seed = 0;
   std::string output;
-  double weld = 0;
+  double weld = -1;  // default: 1e-4 r
   int threads = 0;
   std::string report;
   bool no_quality = false;
@@ -30,15 +30,30 @@ std::string default_output(const std::string& input) {
 }
 
 std::string quality_sentence(const froth::RunReport& run) {
-  if (!run.quality) return "";
+  std::string out;
+  if (run.welding) {
+    const froth::WeldStats& w = *run.welding;
+    out += fmt::format(
+        " Welding (w = {:.3g}): {} edges collapsed, {} faces removed, shortest edge {:.3g} -> {:.3g}, vertices moved "
+        "at most {:.3g}, faces non-planar by at most {:.2g} r.",
+        w.tolerance, w.edges_collapsed, w.faces_removed, w.shortest_edge_before, w.shortest_edge_after,
+        w.max_displacement, w.max_nonplanarity);
+  }
+  if (!run.quality) return out;
   const froth::QualityReport& q = *run.quality;
+  // The paper's bounds hold before welding.
+  const froth::QualityReport& b = run.quality_before_weld ? *run.quality_before_weld : q;
   const auto& in = q.aspect[0];
   const auto& ii = q.dihedral[0];
-  return fmt::format(
+  out += fmt::format(
       " Quality: interior aspect ratio {:.3f} to {:.3f} (mean {:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, "
-      "shortest edge {:.3g}; cells beyond the paper's bounds: {} (Theorem 1), {} and {} (Lemma 6).",
-      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, q.theorem1_violations, q.lemma6_interior_violations,
-      q.lemma6_border_violations);
+      "shortest edge {:.3g}; cells beyond the paper's bounds{}: {} (Theorem 1), {} and {} (Lemma 6).",
+      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, run.quality_before_weld ? " before welding" : "",
+      b.theorem1_violations, b.lemma6_interior_violations, b.lemma6_border_violations);
+  if (run.quality_before_weld)
+    out += fmt::format(" Welding moved aspect ratios by at most {:.2g} and dihedrals by at most {:.2g} degrees.",
+                       run.weld_aspect_shift, run.weld_dihedral_shift);
+  return out;
 }
 
 void print_summary(const froth::RunReport& run, const std::string& output, double write_seconds) {
@@ -60,7 +75,7 @@ int run_mesh(const MeshArgs& a) {
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
-  opt.weld = a.weld;
+  opt.weld = a.weld < 0 ? 1e-4 * a.r : a.weld;
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
   if (isatty(STDERR_FILENO))
@@ -93,7 +108,8 @@ int main(int argc, char** argv) {
   mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
       ->check([](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; });
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
-  mesh->add_option("--weld", a.weld, "weld tolerance; this version supports only 0 (off)");
+  mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 r; 0 = off)")
+      ->check(CLI::NonNegativeNumber);
   mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");

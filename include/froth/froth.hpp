@@ -7,3 +7,4 @@
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"
 #include "froth/validate.hpp"
+#include "froth/weld.hpp"

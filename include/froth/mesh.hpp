@@ -79,7 +79,7 @@ struct PolyMesh {
 struct MeshOptions {
   double r = 0;              // sampling radius
   uint64_t seed = 0;         // random seed: the mesh is a pure function of (domain, r, seed)
-  double weld = 0;           // weld tolerance; this version does not weld (0 only)
+  double weld = 0;           // weld tolerance w in [0, r): vertices closer than w merge; 0 = off
   int threads = 0;           // 0 = all cores; never changes the result
   bool quality = false;      // measure every cell (mesh.quality, report.quality)
   std::function<void(const std::string& stage)> progress;  // told when a stage starts
@@ -108,6 +108,7 @@ struct SamplingStats {
 };
 
 struct QualityReport;  // froth/quality.hpp
+struct WeldStats;      // froth/weld.hpp
 
 struct RunReport {
   std::string domain;
@@ -121,6 +122,9 @@ struct RunReport {
   double domain_volume = 0, volume_sum = 0;
   std::vector<StageTiming> stages;
   std::shared_ptr<const QualityReport> quality;  // when MeshOptions::quality
+  std::shared_ptr<const QualityReport> quality_before_weld;  // when also welding
+  std::shared_ptr<const WeldStats> welding;      // when MeshOptions::weld > 0
+  double weld_aspect_shift = 0, weld_dihedral_shift = 0;  // largest per-cell change by welding
   double total_seconds = 0;
   size_t peak_rss_bytes = 0;
 

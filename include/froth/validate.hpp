@@ -18,7 +18,8 @@ struct MeshCheck {
 // Uses mesh.volumes when they are filled in (one per cell), else computes the volumes.
 MeshCheck check_mesh(const PolyMesh& mesh);
 
-// Signed volume of cell c from the mesh's points (divergence theorem, faces fanned).
+// Signed volume of cell c from the mesh's points (divergence theorem, faces fanned from their
+// centroids).
 double cell_volume(const PolyMesh& mesh, size_t c);
 
 }  // namespace froth

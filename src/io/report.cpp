@@ -3,6 +3,7 @@
 
 #include "froth/io.hpp"
 #include "froth/quality.hpp"
+#include "froth/weld.hpp"
 #include "io/atomic_file.hpp"
 
 namespace froth {
@@ -33,7 +34,25 @@ std::string report_json_text(const RunReport& run) {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
   for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;
+  if (run.welding) {
+    const WeldStats& w = *run.welding;
+    j["welding"] = {{"tolerance", w.tolerance},
+                    {"edges_collapsed", w.edges_collapsed},
+                    {"faces_removed", w.faces_removed},
+                    {"clusters_refused", w.clusters_refused},
+                    {"shortest_edge_before", w.shortest_edge_before},
+                    {"shortest_edge_after", w.shortest_edge_after},
+                    {"max_vertex_displacement", w.max_displacement},
+                    {"max_face_nonplanarity_over_r", w.max_nonplanarity},
+                    {"volume_change_bound", w.volume_change_bound()},
+                    {"volume_change", run.volume_sum - run.domain_volume}};
+  }
   if (run.quality) j["quality"] = nlohmann::ordered_json::parse(quality_json_text(*run.quality));
+  if (run.quality_before_weld) {
+    j["quality_before_welding"] = nlohmann::ordered_json::parse(quality_json_text(*run.quality_before_weld));
+    j["welding_shift"] = {{"max_aspect_change", run.weld_aspect_shift},
+                          {"max_dihedral_change_degrees", run.weld_dihedral_shift}};
+  }
   j["seconds"] = stages;
   j["peak_memory_bytes_after_stage"] = peaks;
   j["seconds_total"] = run.total_seconds;

@@ -9,13 +9,23 @@
 namespace froth {
 
 double cell_volume(const PolyMesh& m, size_t c) {
+  // Each face is fanned from its centroid: the twin face in the neighbour has the same vertices
+  // and so the same triangles, and their contributions cancel exactly in the total even when
+  // welding has left faces slightly non-planar.
   double v6 = 0;
   const Vec3 o = m.seeds[c];  // any origin works; the seed keeps the numbers small
   for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-    int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-    Vec3 a = m.points[m.face_vertices[b]] - o;
-    for (int64_t k = b + 1; k + 1 < e; ++k)
-      v6 += dot(a, cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1]] - o));
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    if (e - b == 3) {
+      v6 += dot(m.points[m.face_vertices[b]] - o,
+                cross(m.points[m.face_vertices[b + 1]] - o, m.points[m.face_vertices[b + 2]] - o));
+      continue;
+    }
+    Vec3 centroid{};
+    for (int64_t k = b; k < e; ++k) centroid = centroid + (m.points[m.face_vertices[k]] - o);
+    centroid = (1.0 / double(e - b)) * centroid;
+    for (int64_t k = b; k < e; ++k)
+      v6 += dot(centroid, cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1 < e ? k + 1 : b]] - o));
   }
   return v6 / 6;
 }

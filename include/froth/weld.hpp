@@ -1,0 +1,32 @@
+// Welding (paper §2.4): cell vertices joined by an edge shorter than w become one vertex, by one
+// global decision, so every cell sees the same merge and the mesh stays conforming.
+#pragma once
+#include <cstdint>
+
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+struct WeldStats {
+  double tolerance = 0;
+  uint64_t edges_collapsed = 0;   // vertices merged away
+  uint64_t faces_removed = 0;     // faces that collapsed to an edge or a point
+  uint64_t clusters_refused = 0;  // merges refused because they would pinch a face
+  double shortest_edge_before = 0, shortest_edge_after = 0;
+  double max_displacement = 0;    // largest distance a vertex moved
+  double max_nonplanarity = 0;    // largest distance of a face's vertex from the face's best-fit plane, / r
+  double border_area = 0;         // of the mesh before welding
+  // Interior faces are shared by two cells with the same vertices, so their contributions to
+  // the total volume cancel (volumes use a fan from each face's centroid, the same for both
+  // twins); only border faces change it, and moving their vertices by at most d changes the
+  // volume they enclose by at most d * border area to first order.
+  double volume_change_bound() const { return max_displacement * border_area; }
+};
+
+// Welds the mesh in place with tolerance w > 0 (r scales the non-planarity figure). Vertices on
+// the domain's boundary keep their position when merged with others (the one on the most
+// domain planes wins), so border faces stay on their planes wherever they can; other clusters
+// move to their centroid.
+WeldStats weld_mesh(PolyMesh& mesh, double w, double r);
+
+}  // namespace froth

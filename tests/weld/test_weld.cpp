@@ -1,0 +1,97 @@
+// Welding: the mesh stays valid and conforming, the total volume moves by no more than the
+// stated bound, no edge shorter than w is left unless a merge was refused, and the result is
+// one global decision (the same for any thread count).
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+
+#include "common/test_support.hpp"
+#include "froth/validate.hpp"
+#include "froth/weld.hpp"
+
+namespace froth {
+namespace {
+
+PolyMesh unwelded(const std::string& domain, double r, uint64_t seed) {
+  ConvexDomain d = load_domain(domain == "sphere" ? test::model("unit_sphere.STL") : domain);
+  MeshOptions opt;
+  opt.r = r;
+  opt.seed = seed;
+  return generate_mesh(d, opt, nullptr);
+}
+
+double total_volume(const PolyMesh& m) {
+  double v = 0;
+  for (size_t c = 0; c < m.cell_count(); ++c) v += cell_volume(m, c);
+  return v;
+}
+
+class Weld : public testing::TestWithParam<std::tuple<std::string, double>> {};
+
+TEST_P(Weld, KeepsTheMeshValidAndTheVolumeWithinTheBound) {
+  const auto& [domain, w_over_r] = GetParam();
+  const double r = 0.1;
+  for (uint64_t seed : {1u, 2u}) {
+    PolyMesh m = unwelded(domain, r, seed);
+    const double before = total_volume(m);
+    const size_t points = m.points.size(), cells = m.cell_count();
+    const WeldStats st = weld_mesh(m, w_over_r * r, r);
+    EXPECT_GT(st.edges_collapsed, 0u);
+    EXPECT_EQ(m.points.size(), points - st.edges_collapsed);
+    EXPECT_EQ(m.cell_count(), cells);
+    const MeshCheck check = check_mesh(m);
+    EXPECT_TRUE(check.ok()) << check.first_problem;
+    EXPECT_LE(std::abs(total_volume(m) - before), st.volume_change_bound() + 1e-12);
+    if (st.clusters_refused == 0) EXPECT_GE(st.shortest_edge_after, w_over_r * r);
+    EXPECT_LE(st.max_displacement, 8 * w_over_r * r);  // clusters are chains of short edges
+    for (size_t c = 0; c < m.cell_count(); ++c) EXPECT_GT(cell_volume(m, c), 0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BoxAndSphere, Weld,
+                         testing::Values(std::make_tuple("box:0,0,0,1,1,1", 0.02), std::make_tuple("sphere", 0.02),
+                                         std::make_tuple("sphere", 0.1)),
+                         [](const auto& i) {
+                           return (std::get<0>(i.param) == "sphere" ? std::string("sphere") : std::string("box")) +
+                                  "_w" + std::to_string(int(std::get<1>(i.param) * 100));
+                         });
+
+TEST(Weld, BelowTheShortestEdgeChangesNothing) {
+  PolyMesh m = unwelded("box:0,0,0,1,1,1", 0.1, 3);
+  const PolyMesh copy = m;
+  const WeldStats probe = weld_mesh(m, 0, 0.1);  // w = 0: only measures
+  EXPECT_EQ(probe.edges_collapsed, 0u);
+  const WeldStats st = weld_mesh(m, probe.shortest_edge_before * 0.999, 0.1);
+  EXPECT_EQ(st.edges_collapsed, 0u);
+  EXPECT_EQ(m.points, copy.points);
+  EXPECT_EQ(m.face_vertices, copy.face_vertices);
+}
+
+TEST(Weld, SameResultForAnyThreadCount) {
+  PolyMesh a = unwelded("sphere", 0.1, 4), b = a;
+  omp_set_num_threads(1);
+  weld_mesh(a, 0.005, 0.1);
+  omp_set_num_threads(2);
+  weld_mesh(b, 0.005, 0.1);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.face_vertices, b.face_vertices);
+  EXPECT_EQ(a.cell_face_begin, b.cell_face_begin);
+}
+
+// Border vertices keep their planes: welding a box keeps every border vertex on the box.
+TEST(Weld, BorderVerticesStayOnTheDomain) {
+  PolyMesh m = unwelded("box:0,0,0,1,1,1", 0.1, 5);
+  weld_mesh(m, 0.003, 0.1);
+  for (size_t f = 0; f < m.face_count(); ++f) {
+    if (!is_border_generator(m.face_generator[f])) continue;
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
+      const Vec3 p = m.points[m.face_vertices[k]];
+      const double d = std::min({p.x, p.y, p.z, 1 - p.x, 1 - p.y, 1 - p.z});
+      EXPECT_LT(std::abs(d), 1e-12);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace froth
