@@ -1,10 +1,13 @@
 // froth command line. Exit codes: 0 success, 2 usage, 3 invalid input, 4 I/O failure,
 // 5 internal error.
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+
+#include <omp.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -94,6 +97,54 @@ int run_mesh(const MeshArgs& a) {
   return 0;
 }
 
+struct QualityArgs {
+  std::string input, json, plots;
+  int threads = 0;
+};
+
+// Histograms as PNG, drawn by scripts/quality_plots.py with Debian's python3-matplotlib.
+void draw_plots(const std::string& json, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const std::string script = std::string(FROTH_SCRIPTS_DIR) + "/quality_plots.py";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    execl("/usr/bin/python3", "python3", script.c_str(), json.c_str(), dir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  if (pid < 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    froth::fail(froth::ErrorKind::Io,
+                fmt::format("could not draw the plots in {} ({} with /usr/bin/python3 and python3-matplotlib)", dir,
+                            script));
+}
+
+int run_quality(const QualityArgs& a) {
+  if (a.threads > 0) omp_set_num_threads(a.threads);
+  froth::PolyMesh mesh = froth::read_vtu(a.input);
+  const froth::MeshCheck check = froth::check_mesh(mesh);
+  const froth::QualityReport q = froth::assess_quality(mesh);
+  std::string json = a.json;
+  if (json.empty() && !a.plots.empty()) json = (std::filesystem::path(a.plots) / "quality.json").string();
+  if (!a.plots.empty()) std::filesystem::create_directories(a.plots);
+  if (!json.empty()) froth::write_quality_json(q, a.input, json);
+  if (!a.plots.empty()) draw_plots(json, a.plots);
+  size_t cells = 0;
+  for (auto n : q.cells) cells += n;
+  const auto& in = q.aspect[0];
+  fmt::print(
+      "froth: {}: {} polyhedral cells ({} interior, {} fringe); {}. Interior aspect ratio {:.3f} to {:.3f} (mean "
+      "{:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, shortest edge {:.3g}; interior cells beyond Theorem 1: "
+      "{}, beyond Lemma 6: {} interior, {} border-interior.{}{}\n",
+      a.input, cells, q.cells[0], q.cells[1],
+      check.ok() ? "every cell closed, every shared face matched"
+                 : fmt::format("NOT VALID: {} open cells, {} unmatched faces, {} cells of non-positive volume (first: {})",
+                               check.open_cells, check.unmatched_faces, check.nonpositive_cells, check.first_problem),
+      in.min, in.max, in.mean(), q.dihedral[0].min, q.dihedral[0].max, q.shortest_edge, q.theorem1_violations,
+      q.lemma6_interior_violations, q.lemma6_border_violations, json.empty() ? "" : " Wrote " + json + ".",
+      a.plots.empty() ? "" : " Plots in " + a.plots + ".");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,6 +165,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
   mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
+  QualityArgs qa;
+  CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
+  quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();
+  quality->add_option("--json", qa.json, "write the quality report (JSON) here");
+  quality->add_option("--plots", qa.plots, "write PNG histograms (aspect ratio by cell kind, dihedrals by class) here");
+  quality->add_option("--threads", qa.threads, "threads (default 0: all cores); never changes the result")
+      ->check(CLI::Range(0, 4096));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -122,6 +180,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (mesh->parsed()) return run_mesh(a);
+    if (quality->parsed()) return run_quality(qa);
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error: {}\n", e.what());
     return e.exit_code();

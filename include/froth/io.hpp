@@ -1,6 +1,7 @@
 // Writers. Every output is written to a temporary name and renamed on success.
 #pragma once
 #include <filesystem>
+#include <string>
 
 #include "froth/mesh.hpp"
 
@@ -9,6 +10,16 @@ namespace froth {
 // VTK XML UnstructuredGrid of VTK_POLYHEDRON cells, appended raw binary. Cell data: seed,
 // kind, volume; field data: r, random_seed, weld, version.
 void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path);
+
+// A polyhedral VTU (any VTK writer: ascii, base64 or appended raw data, zlib-compressed or not)
+// as a mesh: cells must be VTK_POLYHEDRON. Faces shared by two cells become interior faces;
+// seeds come from the "seed" cell data, else each cell's vertex mean; kinds from "kind", else
+// fringe where a cell has a border face. Throws Error (Io, InvalidInput).
+PolyMesh read_vtu(const std::filesystem::path& path);
+
+struct QualityReport;
+// A quality report on its own (froth quality), for the mesh file named.
+void write_quality_json(const QualityReport& q, const std::string& mesh, const std::filesystem::path& path);
 
 // The run report as JSON.
 void write_report_json(const RunReport& run, const std::filesystem::path& path);

@@ -60,6 +60,16 @@ std::string report_json_text(const RunReport& run) {
   return j.dump(2) + "\n";
 }
 
+void write_quality_json(const QualityReport& q, const std::string& mesh, const std::filesystem::path& path) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(quality_json_text(q));
+  nlohmann::ordered_json out;
+  out["froth_version"] = FROTH_VERSION;
+  out["mesh"] = mesh;
+  for (auto& [k, v] : j.items()) out[k] = v;
+  const std::string text = out.dump(2) + "\n";
+  write_atomically(path, [&](std::ostream& o) { o << text; });
+}
+
 void write_report_json(const RunReport& run, const std::filesystem::path& path) {
   std::string text = report_json_text(run);
   write_atomically(path, [&](std::ostream& out) { out << text; });

@@ -1,0 +1,330 @@
+// Reads polyhedral VTU files written by any VTK-compatible writer: ascii, inline base64 binary
+// and appended (raw or base64) data arrays, UInt32 or UInt64 headers, optionally compressed with
+// zlib (vtkZLibDataCompressor). The XML is parsed with pugixml; raw appended bytes are cut off
+// first, as they are not XML.
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <pugixml.hpp>
+
+#include "froth/error.hpp"
+#include "froth/io.hpp"
+#include "froth/validate.hpp"
+
+namespace froth {
+namespace {
+
+[[noreturn]] void bad(const std::filesystem::path& path, const std::string& what) {
+  fail(ErrorKind::InvalidInput, fmt::format("{}: {}", path.string(), what));
+}
+
+std::string base64_decode(std::string_view in) {
+  static const auto table = [] {
+    std::array<int8_t, 256> t;
+    t.fill(-1);
+    const char* chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    for (int i = 0; i < 64; ++i) t[uint8_t(chars[i])] = int8_t(i);
+    return t;
+  }();
+  std::string out;
+  out.reserve(in.size() * 3 / 4);
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char ch : in) {
+    const int8_t v = table[uint8_t(ch)];
+    if (v < 0) continue;  // whitespace and '=' padding
+    acc = (acc << 6) | uint32_t(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(char((acc >> bits) & 0xFF));
+    }
+  }
+  return out;
+}
+
+class Reader {
+ public:
+  explicit Reader(const std::filesystem::path& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) fail(ErrorKind::Io, fmt::format("cannot open {}", path.string()));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    bytes_ = ss.str();
+    // Raw appended data is not XML: parse up to it, and keep the bytes after its '_'.
+    std::string xml = bytes_;
+    const size_t appended = bytes_.find("<AppendedData");
+    if (appended != std::string::npos) {
+      const size_t tag_end = bytes_.find('>', appended);
+      const size_t underscore = bytes_.find('_', tag_end);
+      if (tag_end == std::string::npos || underscore == std::string::npos) bad(path, "AppendedData without its '_'");
+      appended_begin_ = underscore + 1;
+      std::string tag = bytes_.substr(appended, tag_end - appended + 1);
+      appended_base64_ = tag.find("base64") != std::string::npos;
+      xml = bytes_.substr(0, appended) + "</VTKFile>";
+    }
+    const auto res = doc_.load_buffer(xml.data(), xml.size());
+    if (!res) bad(path, fmt::format("not valid XML ({} at byte {})", res.description(), res.offset));
+    auto file = doc_.child("VTKFile");
+    if (!file || std::string(file.attribute("type").as_string()) != "UnstructuredGrid")
+      bad(path, "not a VTK UnstructuredGrid (.vtu) file");
+    if (std::string(file.attribute("byte_order").as_string("LittleEndian")) != "LittleEndian")
+      bad(path, "big-endian data is not supported");
+    header64_ = std::string(file.attribute("header_type").as_string("UInt32")) == "UInt64";
+    const std::string compressor = file.attribute("compressor").as_string("");
+    if (!compressor.empty() && compressor != "vtkZLibDataCompressor")
+      bad(path, fmt::format("compressor {} is not supported (only zlib)", compressor));
+    compressed_ = !compressor.empty();
+    piece_ = file.child("UnstructuredGrid").child("Piece");
+    if (!piece_) bad(path, "no Piece in the UnstructuredGrid");
+  }
+
+  size_t points() const { return piece_.attribute("NumberOfPoints").as_ullong(); }
+  size_t cells() const { return piece_.attribute("NumberOfCells").as_ullong(); }
+
+  pugi::xml_node array(const char* section, const char* name, bool required = true) const {
+    auto sec = piece_.child(section);
+    for (auto a : sec.children("DataArray"))
+      if (!name || std::string(a.attribute("Name").as_string()) == name) return a;
+    if (required) bad(path_, fmt::format("no {} array {}", section, name ? name : ""));
+    return {};
+  }
+
+  // The array's values converted to T.
+  template <class T>
+  std::vector<T> values(pugi::xml_node a) const {
+    const std::string type = a.attribute("type").as_string(), format = a.attribute("format").as_string("ascii");
+    std::vector<T> out;
+    if (format == "ascii") {
+      std::istringstream in(a.child_value());
+      double v;
+      while (in >> v) out.push_back(T(v));
+      return out;
+    }
+    std::string raw;
+    if (format == "binary") raw = decode_block(a.child_value());
+    else if (format == "appended") raw = appended_block(a.attribute("offset").as_ullong());
+    else bad(path_, fmt::format("array {}: unknown format {}", a.attribute("Name").as_string(), format));
+    convert(type, raw, out, a.attribute("Name").as_string());
+    return out;
+  }
+
+ private:
+  uint64_t header_word(const std::string& s, size_t i) const {
+    if (header64_) {
+      uint64_t v;
+      std::memcpy(&v, s.data() + 8 * i, 8);
+      return v;
+    }
+    uint32_t v;
+    std::memcpy(&v, s.data() + 4 * i, 4);
+    return v;
+  }
+  size_t word() const { return header64_ ? 8 : 4; }
+
+  // Uncompresses zlib blocks: header [blocks, block size, last size, compressed sizes...].
+  std::string inflate_blocks(const std::string& header, const std::string& data) const {
+    const uint64_t blocks = header_word(header, 0), block = header_word(header, 1), last = header_word(header, 2);
+    std::string out;
+    size_t at = 0;
+    for (uint64_t b = 0; b < blocks; ++b) {
+      const uint64_t csize = header_word(header, 3 + b);
+      const uint64_t usize = (b + 1 == blocks && last != 0) ? last : block;
+      std::string buf(usize, '\0');
+      uLongf len = uLongf(usize);
+      if (at + csize > data.size() ||
+          uncompress(reinterpret_cast<Bytef*>(buf.data()), &len, reinterpret_cast<const Bytef*>(data.data() + at),
+                     uLong(csize)) != Z_OK)
+        bad(path_, "a compressed data block is corrupt");
+      out.append(buf.data(), len);
+      at += csize;
+    }
+    return out;
+  }
+
+  // An inline base64 block (binary format).
+  std::string decode_block(std::string_view text) const {
+    // Strip leading whitespace.
+    while (!text.empty() && std::isspace(uint8_t(text.front()))) text.remove_prefix(1);
+    if (!compressed_) {
+      std::string all = base64_decode(text);
+      if (all.size() < word()) bad(path_, "a binary data block is truncated");
+      const uint64_t n = header_word(all, 0);
+      if (all.size() < word() + n) bad(path_, "a binary data block is shorter than its header says");
+      return all.substr(word(), n);
+    }
+    // Compressed: the header is encoded on its own, then the data.
+    std::string first = base64_decode(text.substr(0, std::min<size_t>(text.size(), 4 * ((3 * word() + 2) / 3))));
+    const uint64_t blocks = header_word(first, 0);
+    const size_t header_bytes = (3 + blocks) * word();
+    const size_t header_chars = 4 * ((header_bytes + 2) / 3);
+    const std::string header = base64_decode(text.substr(0, header_chars));
+    return inflate_blocks(header, base64_decode(text.substr(header_chars)));
+  }
+
+  std::string appended_block(uint64_t offset) const {
+    if (appended_base64_) {
+      // Offsets count base64 characters.
+      std::string_view rest(bytes_.data() + appended_begin_ + offset, bytes_.size() - appended_begin_ - offset);
+      return decode_block(rest.substr(0, rest.find('<')));
+    }
+    const size_t at = appended_begin_ + offset;
+    if (at + word() > bytes_.size()) bad(path_, "an appended offset points past the end of the file");
+    if (!compressed_) {
+      const uint64_t n = header_word(bytes_.substr(at, word()), 0);
+      if (at + word() + n > bytes_.size()) bad(path_, "an appended block runs past the end of the file");
+      return bytes_.substr(at + word(), n);
+    }
+    const uint64_t blocks = header_word(bytes_.substr(at, word()), 0);
+    const std::string header = bytes_.substr(at, (3 + blocks) * word());
+    uint64_t total = 0;
+    for (uint64_t b = 0; b < blocks; ++b) total += header_word(header, 3 + b);
+    return inflate_blocks(header, bytes_.substr(at + header.size(), total));
+  }
+
+  template <class T>
+  void convert(const std::string& type, const std::string& raw, std::vector<T>& out, const char* name) const {
+    auto take = [&](auto zero) {
+      using S = decltype(zero);
+      const size_t n = raw.size() / sizeof(S);
+      out.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        S v;
+        std::memcpy(&v, raw.data() + i * sizeof(S), sizeof(S));
+        out[i] = T(v);
+      }
+    };
+    if (type == "Float64") take(double{});
+    else if (type == "Float32") take(float{});
+    else if (type == "Int64") take(int64_t{});
+    else if (type == "UInt64") take(uint64_t{});
+    else if (type == "Int32") take(int32_t{});
+    else if (type == "UInt32") take(uint32_t{});
+    else if (type == "Int16") take(int16_t{});
+    else if (type == "UInt16") take(uint16_t{});
+    else if (type == "Int8") take(int8_t{});
+    else if (type == "UInt8") take(uint8_t{});
+    else bad(path_, fmt::format("array {}: unsupported type {}", name, type));
+  }
+
+  std::filesystem::path path_;
+  std::string bytes_;
+  pugi::xml_document doc_;
+  pugi::xml_node piece_;
+  size_t appended_begin_ = 0;
+  bool appended_base64_ = false, header64_ = false, compressed_ = false;
+};
+
+}  // namespace
+
+PolyMesh read_vtu(const std::filesystem::path& path) {
+  Reader rd(path);
+  const size_t np = rd.points(), nc = rd.cells();
+  PolyMesh m;
+  const std::vector<double> xyz = rd.values<double>(rd.array("Points", nullptr));
+  if (xyz.size() != 3 * np) bad(path, fmt::format("{} point coordinates for {} points", xyz.size(), np));
+  m.points.resize(np);
+  for (size_t i = 0; i < np; ++i) m.points[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+  const std::vector<int64_t> types = rd.values<int64_t>(rd.array("Cells", "types"));
+  if (types.size() != nc) bad(path, "the types array does not have one entry per cell");
+  for (size_t c = 0; c < nc; ++c)
+    if (types[c] != 42)
+      bad(path, fmt::format("cell {} has VTK type {}, not a polyhedron (42): froth quality reads polyhedral meshes", c,
+                            types[c]));
+  const std::vector<int64_t> faces = rd.values<int64_t>(rd.array("Cells", "faces"));
+  const std::vector<int64_t> faceoffsets = rd.values<int64_t>(rd.array("Cells", "faceoffsets"));
+  if (faceoffsets.size() != nc) bad(path, "the faceoffsets array does not have one entry per cell");
+
+  // Face streams: per cell its face count, then per face its size and point ids.
+  int64_t at = 0;
+  for (size_t c = 0; c < nc; ++c) {
+    const int64_t end = faceoffsets[c];
+    if (end < at || end > int64_t(faces.size())) bad(path, fmt::format("cell {}: face offsets out of order", c));
+    const int64_t nf = faces[at++];
+    for (int64_t f = 0; f < nf; ++f) {
+      if (at >= end) bad(path, fmt::format("cell {}: face stream shorter than its face count", c));
+      const int64_t n = faces[at++];
+      if (n < 3 || at + n > end) bad(path, fmt::format("cell {} face {}: {} points", c, f, n));
+      for (int64_t k = 0; k < n; ++k) {
+        const int64_t v = faces[at++];
+        if (v < 0 || v >= int64_t(np)) bad(path, fmt::format("cell {} face {}: point id {} out of range", c, f, v));
+        m.face_vertices.push_back(int32_t(v));
+      }
+      m.face_vertex_begin.push_back(int64_t(m.face_vertices.size()));
+      m.face_generator.push_back(0);
+    }
+    m.cell_face_begin.push_back(int64_t(m.face_vertex_begin.size() - 1));
+    at = end;
+  }
+
+  // Seeds from the cell data if there, else the mean of each cell's vertices.
+  m.seeds.resize(nc);
+  if (auto seed = rd.array("CellData", "seed", false)) {
+    const std::vector<double> s = rd.values<double>(seed);
+    if (s.size() != 3 * nc) bad(path, "the seed array does not have three values per cell");
+    for (size_t c = 0; c < nc; ++c) m.seeds[c] = {s[3 * c], s[3 * c + 1], s[3 * c + 2]};
+  } else {
+    for (size_t c = 0; c < nc; ++c) {
+      Vec3 sum{};
+      int64_t count = 0;
+      for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
+        sum = sum + m.points[m.face_vertices[k]], ++count;
+      m.seeds[c] = (1.0 / double(std::max<int64_t>(count, 1))) * sum;
+    }
+  }
+
+  // Interior faces are those two cells share (same point set): their generator is the other
+  // cell; the rest are border faces. Faces are grouped by their smallest point id and matched
+  // within the group.
+  const size_t nf = m.face_count();
+  std::vector<int32_t> face_cell(nf);
+  for (size_t c = 0; c < nc; ++c)
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) face_cell[f] = int32_t(c);
+  std::vector<std::pair<int32_t, int64_t>> by_min(nf);
+  for (size_t f = 0; f < nf; ++f)
+    by_min[f] = {*std::min_element(m.face_vertices.begin() + m.face_vertex_begin[f],
+                                   m.face_vertices.begin() + m.face_vertex_begin[f + 1]),
+                 int64_t(f)};
+  std::sort(by_min.begin(), by_min.end());
+  for (size_t f = 0; f < nf; ++f) m.face_generator[f] = plane_generator(0);
+  auto sorted_points = [&](int64_t f) {
+    std::vector<int32_t> k(m.face_vertices.begin() + m.face_vertex_begin[f],
+                           m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (size_t i = 0; i < nf;) {
+    size_t j = i;
+    while (j < nf && by_min[j].first == by_min[i].first) ++j;
+    std::vector<std::vector<int32_t>> keys;
+    for (size_t a = i; a < j; ++a) keys.push_back(sorted_points(by_min[a].second));
+    for (size_t a = i; a < j; ++a)
+      for (size_t b = a + 1; b < j; ++b) {
+        const int64_t fa = by_min[a].second, fb = by_min[b].second;
+        if (m.face_generator[fa] >= 0 || m.face_generator[fb] >= 0 || keys[a - i] != keys[b - i]) continue;
+        m.face_generator[fa] = face_cell[fb];
+        m.face_generator[fb] = face_cell[fa];
+      }
+    i = j;
+  }
+  m.kinds.assign(nc, CellKind::Interior);
+  if (auto kind = rd.array("CellData", "kind", false)) {
+    const std::vector<int64_t> k = rd.values<int64_t>(kind);
+    if (k.size() != nc) bad(path, "the kind array does not have one value per cell");
+    for (size_t c = 0; c < nc; ++c) m.kinds[c] = CellKind(std::clamp<int64_t>(k[c], 0, 3));
+  } else {
+    for (size_t c = 0; c < nc; ++c)
+      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
+        if (is_border_generator(m.face_generator[f])) m.kinds[c] = CellKind::Fringe;
+  }
+  return m;
+}
+
+}  // namespace froth
