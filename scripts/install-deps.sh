@@ -8,6 +8,6 @@ $SUDO apt-get update -q
 $SUDO apt-get install -y -q --no-install-recommends \
   g++ cmake make pkg-config \
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev \
-  librandom123-dev libcli11-dev libfmt-dev nlohmann-json3-dev \
+  librandom123-dev libcli11-dev libfmt-dev nlohmann-json3-dev libpugixml-dev zlib1g-dev \
   libgtest-dev libbenchmark-dev voro++-dev \
-  python3 python3-numpy python3-vtk9 python3-meshio
+  python3 python3-numpy python3-vtk9 python3-meshio python3-matplotlib python3-jsonschema

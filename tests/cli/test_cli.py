@@ -168,6 +168,86 @@ for args, code, words in [
     check(not os.path.exists(out), f"{args}: output file left behind")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", "/nonexistent-dir/x.vtu")
 check(p.returncode == 4, f"unwritable output: exit code {p.returncode}")
+# froth quality: the same report from froth's VTU as the run report; the same again from VTUs that
+# VTK itself writes in its other encodings; valid PNG plots; a JSON that meets the schema.
+import jsonschema  # noqa: E402
+
+schema = json.load(open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs",
+                                     "quality-report.schema.json")))
+src, rep = os.path.join(tmp, "q.vtu"), os.path.join(tmp, "q_run.json")
+p = froth("mesh", os.path.join(MODELS, "unit_sphere.STL"), "-r", "0.2", "--seed", "2", "--weld", "0", "-o", src,
+          "--report", rep)
+check(p.returncode == 0, f"quality source: {p.stderr}")
+run_quality = json.load(open(rep))["quality"]
+qjson, plots = os.path.join(tmp, "q.json"), os.path.join(tmp, "plots")
+p = froth("quality", src, "--json", qjson, "--plots", plots)
+check(p.returncode == 0, f"froth quality: exit {p.returncode}: {p.stderr}")
+check("every cell closed" in p.stdout, f"froth quality summary: {p.stdout}")
+got = json.load(open(qjson))
+try:
+    jsonschema.validate(got, schema)
+    jsonschema.validate(run_quality, schema)
+except jsonschema.ValidationError as e:
+    check(False, f"quality JSON does not meet the schema: {e.message}")
+for key in ("cells", "dihedral_degrees", "bounds", "shortest_edge"):
+    check(got[key] == run_quality[key], f"froth quality on froth's VTU: {key} differs from the run report")
+for png in ("aspect.png", "dihedral.png"):
+    path = os.path.join(plots, png)
+    check(os.path.exists(path) and open(path, "rb").read(8) == b"\x89PNG\r\n\x1a\n", f"{png} is not a PNG file")
+    if os.path.exists(path):
+        import matplotlib.image  # noqa: E402
+        check(matplotlib.image.imread(path).shape[0] > 100, f"{png} does not decode")
+
+g = read_vtk(src)
+for mode, compress, header in [("ascii", False, 64), ("binary", False, 32), ("binary", True, 64),
+                               ("appended", True, 32), ("appended-base64", False, 64)]:
+    w = vtk.vtkXMLUnstructuredGridWriter()
+    out = os.path.join(tmp, f"vtk_{mode}_{compress}_{header}.vtu")
+    w.SetFileName(out)
+    w.SetInputData(g)
+    if mode == "ascii":
+        w.SetDataModeToAscii()
+    elif mode == "binary":
+        w.SetDataModeToBinary()
+    else:
+        w.SetDataModeToAppended()
+        w.SetEncodeAppendedData(mode.endswith("base64"))
+    if compress:
+        w.SetCompressorTypeToZLib()
+    else:
+        w.SetCompressorTypeToNone()
+    w.SetHeaderTypeToUInt32() if header == 32 else w.SetHeaderTypeToUInt64()
+    w.Write()
+    qo = os.path.join(tmp, f"vtk_{mode}.json")
+    p = froth("quality", out, "--json", qo)
+    check(p.returncode == 0, f"froth quality on VTK's {mode} (zlib {compress}, UInt{header}): {p.stderr}")
+    if p.returncode == 0:
+        other = json.load(open(qo))
+        a, b = other["cells"]["interior"]["aspect"], run_quality["cells"]["interior"]["aspect"]
+        check(other["cells"]["interior"]["count"] == run_quality["cells"]["interior"]["count"] and
+              all(abs(a[k] - b[k]) <= 1e-6 * abs(b[k]) for k in ("min", "mean", "max")),
+              f"froth quality on VTK's {mode}: interior aspect {a} vs {b}")
+
+# A tetrahedral VTU and a file that is not VTU at all: clear messages, exit code 3.
+tet = vtk.vtkUnstructuredGrid()
+pts = vtk.vtkPoints()
+for xyz in ((0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)):
+    pts.InsertNextPoint(*xyz)
+tet.SetPoints(pts)
+ids = vtk.vtkIdList()
+for i in range(4):
+    ids.InsertNextId(i)
+tet.InsertNextCell(vtk.VTK_TETRA, ids)
+w = vtk.vtkXMLUnstructuredGridWriter()
+w.SetFileName(os.path.join(tmp, "tet.vtu"))
+w.SetInputData(tet)
+w.Write()
+for path, words in [(os.path.join(tmp, "tet.vtu"), "not a polyhedron"), (rep, "not valid XML")]:
+    p = froth("quality", path)
+    check(p.returncode == 3 and words in p.stderr, f"froth quality {path}: exit {p.returncode}, '{p.stderr.strip()}'")
+p = froth("quality", "/nonexistent.vtu")
+check(p.returncode == 4 and "cannot open" in p.stderr, f"froth quality missing file: {p.returncode}")
+
 leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
 check(not leftovers, f"temporary files left: {leftovers}")
 
