@@ -69,6 +69,12 @@ int main(int argc, char** argv) {
   if (sizes.empty()) sizes = {1e4, 1e5, 1e6};
   froth::ConvexDomain cube = froth::make_box_domain({0, 0, 0}, {1, 1, 1});
 
+  struct Later {
+    size_t cells;
+    double mesh, weld, quality;
+    uint64_t collapsed;
+  };
+  std::vector<Later> later;
   fmt::print("froth pipeline on the unit cube, {} threads; voro++ (1 thread) on the same seeds\n", threads);
   fmt::print("{:>9} {:>8} | {:>8} {:>10} | {:>8} {:>10} {:>8} {:>8} {:>9} {:>8} | {:>9} {:>8} | {:>8} {:>7}\n",
              "cells", "r", "sample s", "seeds/s", "cells s", "cells/s", "assem s", "check s", "total s", "us/cell",
@@ -101,8 +107,22 @@ int main(int argc, char** argv) {
                stage("assembly"), stage("validation"), total, 1e6 * total / n, peak_kib / 1024.0,
                (peak_kib - base_kib) * 1024.0 / n, voro_s, total / voro_s);
     std::fflush(stdout);
+    // Welding (w = 1e-4 r, the CLI's default) and the quality of the welded mesh, timed apart.
+    omp_set_num_threads(threads);
+    t0 = Clock::now();
+    const froth::WeldStats ws = froth::weld_mesh(mesh, 1e-4 * r, r);
+    const double weld_s = since(t0);
+    t0 = Clock::now();
+    froth::assess_quality(mesh, &mesh.quality);
+    later.push_back({run.cells, total, weld_s, since(t0), ws.edges_collapsed});
   }
   fmt::print("total s = sampling + cells + assembly + check (file writing excluded); cells/s = cells stage only;\n"
              "ratio = froth total ({} threads) / voro++ cells (1 thread); B/cell = (peak RSS of the run - RSS before) / cells.\n",
              threads);
+  fmt::print("\nwelding (w = 1e-4 r) and quality of the welded mesh, {} threads\n", threads);
+  fmt::print("{:>9} | {:>8} | {:>8} {:>9} {:>10} | {:>9} {:>12}\n", "cells", "mesh s", "weld s", "weld/mesh",
+             "collapsed", "quality s", "quality/mesh");
+  for (const Later& l : later)
+    fmt::print("{:>9} | {:>8.3f} | {:>8.3f} {:>8.1f}% {:>10} | {:>9.3f} {:>12.2f}\n", l.cells, l.mesh, l.weld,
+               100 * l.weld / l.mesh, l.collapsed, l.quality, l.quality / l.mesh);
 }
