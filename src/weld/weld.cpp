@@ -27,12 +27,6 @@ struct UnionFind {
   }
 };
 
-// Walks the faces' vertex cycles: f(face, first, end) for each face.
-template <class F>
-void for_each_face(const PolyMesh& m, F&& f) {
-  for (size_t k = 0; k < m.face_count(); ++k) f(k, m.face_vertex_begin[k], m.face_vertex_begin[k + 1]);
-}
-
 // A face's vertices mapped through `root`, with consecutive repeats (cyclically) removed.
 void collapsed(const PolyMesh& m, int64_t b, int64_t e, UnionFind& uf, std::vector<int32_t>& out) {
   out.clear();
@@ -43,14 +37,6 @@ void collapsed(const PolyMesh& m, int64_t b, int64_t e, UnionFind& uf, std::vect
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
 }
 
-double shortest_edge(const PolyMesh& m) {
-  double best = INFINITY;
-  for_each_face(m, [&](size_t, int64_t b, int64_t e) {
-    for (int64_t k = b; k < e; ++k)
-      best = std::min(best, norm2(m.points[m.face_vertices[k]] - m.points[m.face_vertices[k + 1 < e ? k + 1 : b]]));
-  });
-  return std::isfinite(best) ? std::sqrt(best) : 0;
-}
 
 // One pass: merges along the edges shorter than w as they are.
 WeldStats weld_pass(PolyMesh& m, double w, double r) {
@@ -86,15 +72,23 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
   std::sort(short_edges.begin(), short_edges.end());
   short_edges.erase(std::unique(short_edges.begin(), short_edges.end()), short_edges.end());
 
-  // Merge, then refuse every cluster that would make a face touch itself (a vertex twice, not
-  // in a row), and merge again without it, until no face is pinched.
+  // Faces with a vertex on a short edge: the only ones welding can change.
   std::vector<uint8_t> refused(m.points.size(), 0), member(m.points.size(), 0);
   for (auto [u, v] : short_edges) member[u] = member[v] = 1;
-  auto touches_member = [&](int64_t b, int64_t e) {
-    for (int64_t k = b; k < e; ++k)
-      if (member[m.face_vertices[k]]) return true;
-    return false;
-  };
+  std::vector<std::vector<int64_t>> touched(chunks);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (size_t ch = 0; ch < chunks; ++ch)
+    for (size_t f = ch * chunk; f < std::min(nf, (ch + 1) * chunk); ++f)
+      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+        if (member[m.face_vertices[k]]) {
+          touched[ch].push_back(int64_t(f));
+          break;
+        }
+  std::vector<int64_t> member_faces;
+  for (auto& t : touched) member_faces.insert(member_faces.end(), t.begin(), t.end());
+
+  // Merge, then refuse every cluster that would make a face touch itself (a vertex twice, not
+  // in a row), and merge again without it, until no face is pinched.
   UnionFind uf(m.points.size());
   std::vector<int32_t> cyc, sorted;
   for (;;) {
@@ -102,8 +96,8 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
     for (auto [u, v] : short_edges)
       if (!refused[u] && !refused[v]) uf.unite(u, v);
     bool pinched = false;
-    for_each_face(m, [&](size_t, int64_t b, int64_t e) {
-      if (!touches_member(b, e)) return;
+    for (int64_t f : member_faces) {
+      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
       collapsed(m, b, e, uf, cyc);
       sorted = cyc;
       std::sort(sorted.begin(), sorted.end());
@@ -114,7 +108,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
             if (uf.find(m.face_vertices[j]) == sorted[k]) refused[m.face_vertices[j]] = 1;
           pinched = true;
         }
-    });
+    }
     if (!pinched) break;
     for (auto [u, v] : short_edges)  // refuse the rest of those clusters too
       if (refused[u] || refused[v]) refused[u] = refused[v] = 1;
@@ -125,15 +119,15 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
   std::map<int32_t, std::vector<int32_t>> planes;
   for (auto [u, v] : short_edges)
     if (uf.find(u) == uf.find(v)) planes[u], planes[v];
-  for_each_face(m, [&](size_t f, int64_t b, int64_t e) {
-    if (!is_border_generator(m.face_generator[f])) return;
-    for (int64_t k = b; k < e; ++k) {
+  for (int64_t f : member_faces) {
+    if (!is_border_generator(m.face_generator[f])) continue;
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
       auto it = planes.find(m.face_vertices[k]);
       if (it == planes.end()) continue;
       auto& p = it->second;
       if (std::find(p.begin(), p.end(), m.face_generator[f]) == p.end()) p.push_back(m.face_generator[f]);
     }
-  });
+  }
   struct Cluster {
     Vec3 sum{};
     int count = 0;
@@ -149,43 +143,96 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
       c.keeper = v, c.keeper_planes = p.size();
   }
 
-  // New points: one per root, in id order.
+  // New points: one per root, in id order; every old point's new id.
   std::vector<int32_t> new_id(m.points.size(), -1);
   Buffer<Vec3> points;
+  points.reserve(m.points.size());
   for (size_t v = 0; v < m.points.size(); ++v) {
-    if (uf.find(int32_t(v)) != int32_t(v)) continue;
+    if (member[v] && uf.find(int32_t(v)) != int32_t(v)) continue;
     new_id[v] = int32_t(points.size());
     Vec3 p = m.points[v];
-    auto it = clusters.find(int32_t(v));
+    auto it = member[v] ? clusters.find(int32_t(v)) : clusters.end();
     if (it != clusters.end() && it->second.count > 1)
       p = it->second.keeper >= 0 ? m.points[it->second.keeper] : (1.0 / it->second.count) * it->second.sum;
     points.push_back(p);
   }
   for (size_t v = 0; v < m.points.size(); ++v) {
+    if (!member[v]) continue;
     const int32_t root = uf.find(int32_t(v));
-    if (root != int32_t(v)) ++st.edges_collapsed;
-    st.max_displacement = std::max(st.max_displacement, norm(points[new_id[root]] - m.points[v]));
+    if (root != int32_t(v)) ++st.edges_collapsed, new_id[v] = new_id[root];
+    st.max_displacement = std::max(st.max_displacement, norm(points[new_id[v]] - m.points[v]));
   }
 
-  // Faces rebuilt through the map; faces left with fewer than three vertices are gone.
-  std::vector<int64_t> cell_face_begin{0};
-  Buffer<int32_t> face_generator;
-  Buffer<int64_t> face_vertex_begin;
-  Buffer<int32_t> face_vertices;
-  face_vertex_begin.push_back(0);
-  for (size_t c = 0; c < m.cell_count(); ++c) {
-    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-      collapsed(m, m.face_vertex_begin[f], m.face_vertex_begin[f + 1], uf, cyc);
-      if (cyc.size() < 3) {
-        ++st.faces_removed;
-        continue;
-      }
-      face_generator.push_back(m.face_generator[f]);
-      for (int32_t v : cyc) face_vertices.push_back(new_id[v]);
-      face_vertex_begin.push_back(int64_t(face_vertices.size()));
+  // Faces rebuilt through the map, in parallel by blocks of cells (sizes first, then the
+  // contents); faces left with fewer than three vertices are gone.
+  const size_t nc = m.cell_count(), cell_chunk = 4096, cell_chunks = (nc + cell_chunk - 1) / cell_chunk;
+  std::vector<int64_t> chunk_faces(cell_chunks + 1, 0), chunk_entries(cell_chunks + 1, 0);
+  auto mapped = [&](int64_t f, std::vector<int32_t>& out) {
+    out.clear();
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
+      const int32_t v = new_id[m.face_vertices[k]];
+      if (out.empty() || out.back() != v) out.push_back(v);
     }
-    cell_face_begin.push_back(int64_t(face_generator.size()));
+    while (out.size() > 1 && out.back() == out.front()) out.pop_back();
+  };
+  uint64_t removed = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : removed)
+  for (size_t ch = 0; ch < cell_chunks; ++ch) {
+    std::vector<int32_t> out;
+    int64_t faces = 0, entries = 0;
+    for (int64_t f = m.cell_face_begin[ch * cell_chunk]; f < m.cell_face_begin[std::min(nc, (ch + 1) * cell_chunk)]; ++f) {
+      mapped(f, out);
+      if (out.size() < 3) ++removed;
+      else ++faces, entries += int64_t(out.size());
+    }
+    chunk_faces[ch + 1] = faces, chunk_entries[ch + 1] = entries;
   }
+  st.faces_removed = removed;
+  for (size_t ch = 0; ch < cell_chunks; ++ch)
+    chunk_faces[ch + 1] += chunk_faces[ch], chunk_entries[ch + 1] += chunk_entries[ch];
+  std::vector<int64_t> cell_face_begin(nc + 1);
+  Buffer<int32_t> face_generator(chunk_faces[cell_chunks]);
+  Buffer<int64_t> face_vertex_begin(chunk_faces[cell_chunks] + 1);
+  Buffer<int32_t> face_vertices(chunk_entries[cell_chunks]);
+  double shortest_after2 = INFINITY;
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : shortest_after2)
+  for (size_t ch = 0; ch < cell_chunks; ++ch) {
+    std::vector<int32_t> out;
+    int64_t face = chunk_faces[ch], entry = chunk_entries[ch];
+    for (size_t c = ch * cell_chunk; c < std::min(nc, (ch + 1) * cell_chunk); ++c) {
+      cell_face_begin[c] = face;
+      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+        mapped(f, out);
+        if (out.size() < 3) continue;
+        face_generator[face] = m.face_generator[f];
+        face_vertex_begin[face++] = entry;
+        for (size_t k = 0; k < out.size(); ++k) {
+          face_vertices[entry++] = out[k];
+          shortest_after2 = std::min(shortest_after2, norm2(points[out[k]] - points[out[(k + 1) % out.size()]]));
+        }
+      }
+    }
+  }
+  cell_face_begin[nc] = chunk_faces[cell_chunks];
+  face_vertex_begin[chunk_faces[cell_chunks]] = chunk_entries[cell_chunks];
+  st.shortest_edge_after = std::isfinite(shortest_after2) ? std::sqrt(shortest_after2) : 0;
+
+  // Non-planarity of the faces that had a merged vertex: distance of each vertex from the
+  // best-fit plane (Newell normal through the centroid).
+  for (int64_t f : member_faces) {
+    mapped(f, cyc);
+    if (cyc.size() <= 3) continue;
+    Vec3 n{}, centroid{};
+    for (size_t k = 0; k < cyc.size(); ++k) {
+      n = n + cross(points[cyc[k]], points[cyc[(k + 1) % cyc.size()]]);
+      centroid = centroid + points[cyc[k]];
+    }
+    if (norm(n) == 0) continue;
+    n = (1 / norm(n)) * n;
+    centroid = (1.0 / double(cyc.size())) * centroid;
+    for (int32_t v : cyc) st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(n, points[v] - centroid)) / r);
+  }
+
   m.points = std::move(points);
   m.cell_face_begin = std::move(cell_face_begin);
   m.face_generator = std::move(face_generator);
@@ -193,28 +240,6 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
   m.face_vertices = std::move(face_vertices);
   m.volumes.clear();
   m.quality.clear();
-
-  // Non-planarity of the faces that have a moved vertex: distance of each vertex from the
-  // best-fit plane (Newell normal through the centroid).
-  std::vector<uint8_t> moved(m.points.size(), 0);
-  for (size_t v = 0; v < new_id.size(); ++v)
-    if (member[v]) moved[new_id[uf.find(int32_t(v))]] = 1;
-  for_each_face(m, [&](size_t, int64_t b, int64_t e) {
-    bool any = false;
-    for (int64_t k = b; k < e && !any; ++k) any = moved[m.face_vertices[k]];
-    if (!any) return;
-    Vec3 n{}, centroid{};
-    for (int64_t k = b; k < e; ++k) {
-      n = n + cross(m.points[m.face_vertices[k]], m.points[m.face_vertices[k + 1 < e ? k + 1 : b]]);
-      centroid = centroid + m.points[m.face_vertices[k]];
-    }
-    if (e - b <= 3 || norm(n) == 0) return;
-    n = (1 / norm(n)) * n;
-    centroid = (1.0 / double(e - b)) * centroid;
-    for (int64_t k = b; k < e; ++k)
-      st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(n, m.points[m.face_vertices[k]] - centroid)) / r);
-  });
-  st.shortest_edge_after = shortest_edge(m);
   return st;
 }
 
