@@ -97,6 +97,39 @@ int run_mesh(const MeshArgs& a) {
   return 0;
 }
 
+struct EnsembleArgs {
+  std::string input, dir;
+  double r = 0, weld = -1;
+  uint64_t seed = 0;
+  size_t members = 0;
+  int threads = 0;
+  bool no_quality = false;
+};
+
+int run_ensemble(const EnsembleArgs& a, const std::string& command) {
+  froth::ConvexDomain domain = froth::load_domain(a.input);
+  froth::EnsembleOptions opt;
+  opt.input = a.input;
+  opt.r = a.r;
+  opt.seed = a.seed;
+  opt.members = a.members;
+  opt.weld = a.weld < 0 ? 1e-4 * a.r : a.weld;
+  opt.quality = !a.no_quality;
+  opt.threads = a.threads;
+  opt.dir = a.dir;
+  opt.command = command;
+  if (isatty(STDERR_FILENO)) opt.progress = [](const std::string& s) { fmt::print(stderr, "froth: {}...\n", s); };
+  const auto t0 = std::chrono::steady_clock::now();
+  const froth::EnsembleProgress done = froth::build_members(domain, opt);
+  froth::write_ensemble_summary(opt, done);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}: {} built, {} already complete; "
+             "{:.3f} s ({:.2f} members per minute). Wrote {}/ensemble.pvd and {}/ensemble.json.\n",
+             a.members, a.input, a.r, a.seed, a.dir, done.built, done.resumed, seconds,
+             done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, a.dir, a.dir);
+  return 0;
+}
+
 struct QualityArgs {
   std::string input, json, plots;
   int threads = 0;
@@ -165,6 +198,17 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
   mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
+  EnsembleArgs ea;
+  CLI::App* ensemble = app.add_subcommand("ensemble", "make N independent meshes of one domain (resumable)");
+  ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed convex STL surface")->required();
+  ensemble->add_option("-r,--radius", ea.r, "sampling radius r")->required();
+  ensemble->add_option("-n,--members", ea.members, "number of members")->required()->check(CLI::Range(1, 1000000));
+  ensemble->add_option("--seed", ea.seed, "ensemble seed S; member k has seed froth::member_seed(S, k)")
+      ->check([](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; });
+  ensemble->add_option("-o,--output", ea.dir, "output directory")->required();
+  ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 r; 0 = off)")->check(CLI::NonNegativeNumber);
+  ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
+  ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
   quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();
@@ -181,6 +225,11 @@ int main(int argc, char** argv) {
   try {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
+    if (ensemble->parsed()) {
+      std::string command;
+      for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+      return run_ensemble(ea, command);
+    }
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error: {}\n", e.what());
     return e.exit_code();

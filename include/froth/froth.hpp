@@ -1,6 +1,7 @@
 // froth: uniform random Voronoi meshes by maximal Poisson-disk sampling.
 #pragma once
 #include "froth/domain.hpp"
+#include "froth/ensemble.hpp"
 #include "froth/error.hpp"
 #include "froth/geometry.hpp"
 #include "froth/io.hpp"

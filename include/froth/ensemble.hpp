@@ -1,0 +1,45 @@
+// Ensembles: many independent meshes of one domain, member k from a seed derived from (S, k).
+// Each member is written atomically with a JSON sidecar (its run report, file size and CRC-32);
+// a member whose files are complete and match is skipped when the command is run again, so a
+// killed run resumes where it stopped. The summary (ParaView collection and ensemble.json) is
+// written from the sidecars.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "froth/domain.hpp"
+
+namespace froth {
+
+struct EnsembleOptions {
+  std::string input;       // the domain as given on the command line
+  double r = 0;
+  uint64_t seed = 0;       // the ensemble's seed S
+  size_t members = 0;
+  double weld = 0;         // absolute tolerance, as for MeshOptions
+  bool quality = true;
+  int threads = 0;
+  std::filesystem::path dir;
+  std::string command;     // the exact command line, for the record
+  int rank = 0, ranks = 1; // this process builds the members k with k % ranks == rank
+  std::function<void(const std::string&)> progress;
+};
+
+// The seed of member k: Philox4x64 keyed by S (stream "ensemble") at counter k. `froth mesh
+// INPUT -r R --seed member_seed(S, k)` gives member k byte for byte.
+uint64_t member_seed(uint64_t seed, size_t k);
+std::string member_file(size_t k);  // member_00000.vtu, ...
+
+struct EnsembleProgress {
+  size_t built = 0, resumed = 0;
+};
+
+// Builds this rank's members that are not already complete and valid in opt.dir.
+EnsembleProgress build_members(const ConvexDomain& domain, const EnsembleOptions& opt);
+
+// Writes DIR/ensemble.pvd and DIR/ensemble.json from the members' sidecars (all must exist).
+void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress);
+
+}  // namespace froth

@@ -1,0 +1,192 @@
+// Ensembles: members built (or found complete) one after another, each written atomically with
+// its sidecar, then summarised.
+#include "froth/ensemble.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "common/random.hpp"
+#include "froth/error.hpp"
+#include "froth/io.hpp"
+#include "froth/mesh.hpp"
+#include "io/atomic_file.hpp"
+
+namespace froth {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::filesystem::path sidecar(const EnsembleOptions& opt, size_t k) {
+  return opt.dir / fmt::format("member_{:05d}.json", k);
+}
+
+// CRC-32 and size of a file, or size -1 if it cannot be read.
+std::pair<int64_t, uint32_t> crc_of(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {-1, 0};
+  std::vector<char> buf(1 << 20);
+  uLong crc = crc32(0L, Z_NULL, 0);
+  int64_t size = 0;
+  while (in) {
+    in.read(buf.data(), std::streamsize(buf.size()));
+    const std::streamsize got = in.gcount();
+    if (got <= 0) break;
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(buf.data()), uInt(got));
+    size += got;
+  }
+  return {size, uint32_t(crc)};
+}
+
+// Is member k in the directory, complete, and made with these options?
+bool member_done(const EnsembleOptions& opt, size_t k) {
+  std::ifstream in(sidecar(opt, k));
+  if (!in) return false;
+  Json j;
+  try {
+    j = Json::parse(in);
+    const Json& m = j.at("member");
+    if (j.at("froth_version") != FROTH_VERSION || m.at("seed").get<uint64_t>() != member_seed(opt.seed, k) ||
+        j.at("input").at("r").get<double>() != opt.r || j.at("input").at("weld").get<double>() != opt.weld ||
+        m.at("input").get<std::string>() != opt.input || m.at("quality").get<bool>() != opt.quality)
+      return false;
+    const auto [size, crc] = crc_of(opt.dir / member_file(k));
+    return size == m.at("bytes").get<int64_t>() && crc == m.at("crc32").get<uint32_t>();
+  } catch (const std::exception&) {
+    return false;  // unreadable or from another version: build it again
+  }
+}
+
+struct Spread {
+  std::vector<double> v;
+  Json json() const {
+    if (v.empty()) return Json();
+    double mean = 0, sd = 0;
+    for (double x : v) mean += x;
+    mean /= double(v.size());
+    for (double x : v) sd += (x - mean) * (x - mean);
+    sd = v.size() > 1 ? std::sqrt(sd / double(v.size() - 1)) : 0;
+    return {{"mean", mean}, {"sd", sd}, {"min", *std::min_element(v.begin(), v.end())},
+            {"max", *std::max_element(v.begin(), v.end())}};
+  }
+};
+
+}  // namespace
+
+uint64_t member_seed(uint64_t seed, size_t k) {
+  return CounterRng(seed, RandomStream::Ensemble).words(uint64_t(k), 0, 0, 0)[0];
+}
+
+std::string member_file(size_t k) { return fmt::format("member_{:05d}.vtu", k); }
+
+EnsembleProgress build_members(const ConvexDomain& domain, const EnsembleOptions& opt) {
+  std::filesystem::create_directories(opt.dir);
+  // A killed run can leave a member's temporary file (member_00002.vtu.tmp1234) behind: it was
+  // never renamed into place, so it is not a member; remove such leftovers of this rank's members.
+  for (const auto& entry : std::filesystem::directory_iterator(opt.dir)) {
+    const std::string name = entry.path().filename().string();
+    size_t k = 0;
+    if (name.rfind("member_", 0) == 0 && name.find(".tmp") != std::string::npos &&
+        std::sscanf(name.c_str(), "member_%zu", &k) == 1 && k % size_t(opt.ranks) == size_t(opt.rank)) {
+      std::error_code ec;
+      std::filesystem::remove(entry.path(), ec);
+    }
+  }
+  EnsembleProgress done;
+  for (size_t k = size_t(opt.rank); k < opt.members; k += size_t(opt.ranks)) {
+    if (member_done(opt, k)) {
+      ++done.resumed;
+      continue;
+    }
+    if (opt.progress) opt.progress(fmt::format("member {} of {}", k + 1, opt.members));
+    MeshOptions mo;
+    mo.r = opt.r;
+    mo.seed = member_seed(opt.seed, k);
+    mo.weld = opt.weld;
+    mo.threads = opt.threads;
+    mo.quality = opt.quality;
+    RunReport run;
+    PolyMesh mesh = generate_mesh(domain, mo, &run);
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::filesystem::path file = opt.dir / member_file(k);
+    write_vtu(mesh, run, file);
+    run.stages.push_back(
+        {"writing", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), peak_rss_bytes()});
+    // The sidecar last: its presence marks the member complete.
+    const auto [size, crc] = crc_of(file);
+    Json j = Json::parse(report_json_text(run));
+    j["member"] = {{"index", k},          {"seed", mo.seed}, {"file", member_file(k)}, {"bytes", size},
+                   {"crc32", crc},        {"input", opt.input}, {"quality", opt.quality}};
+    const std::string text = j.dump(2) + "\n";
+    write_atomically(sidecar(opt, k), [&](std::ostream& out) { out << text; });
+    ++done.built;
+  }
+  return done;
+}
+
+void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress) {
+  Json members = Json::array();
+  Spread cells, mean_volume, min_aspect, max_aspect, seconds;
+  for (size_t k = 0; k < opt.members; ++k) {
+    std::ifstream in(sidecar(opt, k));
+    if (!in) fail(ErrorKind::Io, fmt::format("{}: missing: member {} was not built", sidecar(opt, k).string(), k));
+    const Json j = Json::parse(in);
+    const double n = j["mesh"]["cells"].get<double>();
+    Json m = {{"index", k},
+              {"seed", j["member"]["seed"]},
+              {"file", j["member"]["file"]},
+              {"cells", j["mesh"]["cells"]},
+              {"volume_relative_error", j["volume"]["relative_error"]},
+              {"mean_cell_volume", j["volume"]["cells_sum"].get<double>() / n},
+              {"seconds", j["seconds_total"]}};
+    cells.v.push_back(n);
+    mean_volume.v.push_back(j["volume"]["cells_sum"].get<double>() / n);
+    seconds.v.push_back(j["seconds_total"].get<double>());
+    if (j.contains("quality")) {
+      double lo = INFINITY, hi = 0;
+      for (const auto& [kind, q] : j["quality"]["cells"].items()) {
+        lo = std::min(lo, q["aspect"]["min"].get<double>());
+        hi = std::max(hi, q["aspect"]["max"].get<double>());
+      }
+      m["quality"] = {{"min_aspect", lo},
+                      {"max_aspect", hi},
+                      {"interior_aspect", j["quality"]["cells"]["interior"]["aspect"]},
+                      {"bounds", j.contains("quality_before_welding") ? j["quality_before_welding"]["bounds"]
+                                                                      : j["quality"]["bounds"]}};
+      min_aspect.v.push_back(lo);
+      max_aspect.v.push_back(hi);
+    }
+    members.push_back(m);
+  }
+  Json out;
+  out["command"] = opt.command;
+  out["froth_version"] = FROTH_VERSION;
+  out["input"] = {{"domain", opt.input}, {"r", opt.r}, {"seed", opt.seed}, {"members", opt.members},
+                  {"weld", opt.weld}, {"quality", opt.quality}};
+  out["member_seeds"] = "Philox4x64-10 keyed by (seed, 2) at counter (k, 0, 0, 0), first word";
+  out["this_run"] = {{"built", progress.built}, {"already_complete", progress.resumed}};
+  out["members"] = members;
+  out["spread"] = {{"cells", cells.json()},
+                   {"mean_cell_volume", mean_volume.json()},
+                   {"min_aspect", min_aspect.json()},
+                   {"max_aspect", max_aspect.json()},
+                   {"seconds", seconds.json()}};
+  const std::string text = out.dump(2) + "\n";
+  write_atomically(opt.dir / "ensemble.json", [&](std::ostream& o) { o << text; });
+  write_atomically(opt.dir / "ensemble.pvd", [&](std::ostream& o) {
+    o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+         "<Collection>\n";
+    for (size_t k = 0; k < opt.members; ++k)
+      o << fmt::format("<DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", k, member_file(k));
+    o << "</Collection>\n</VTKFile>\n";
+  });
+}
+
+}  // namespace froth
