@@ -39,7 +39,9 @@ void collapsed(const PolyMesh& m, int64_t b, int64_t e, UnionFind& uf, std::vect
 
 
 // One pass: merges along the edges shorter than w as they are.
-WeldStats weld_pass(PolyMesh& m, double w, double r) {
+// `edges`: the short edges if known (later passes), else empty and found by a scan of all
+// faces; on return, the edges shorter than w among the faces this pass changed.
+WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges) {
   WeldStats st;
   st.tolerance = w;
   // One parallel pass: the short edges (in face order, deduplicated below: each is seen from
@@ -47,8 +49,9 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
   const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int32_t, int32_t>>> found(chunks);
   double shortest2 = INFINITY, area = 0;
+  const bool scan = edges.empty();
 #pragma omp parallel for schedule(dynamic, 1) reduction(min : shortest2) reduction(+ : area)
-  for (size_t ch = 0; ch < chunks; ++ch)
+  for (size_t ch = 0; ch < (scan ? chunks : 0); ++ch)
     for (size_t f = ch * chunk; f < std::min(nf, (ch + 1) * chunk); ++f) {
       const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
       Vec3 n{};
@@ -64,6 +67,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
   st.border_area = area;
   st.shortest_edge_before = std::isfinite(shortest2) ? std::sqrt(shortest2) : 0;
   std::vector<std::pair<int32_t, int32_t>> short_edges;
+  short_edges.swap(edges);
   for (auto& f : found) short_edges.insert(short_edges.end(), f.begin(), f.end());
   if (short_edges.empty()) {
     st.shortest_edge_after = st.shortest_edge_before;
@@ -232,6 +236,15 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
     centroid = (1.0 / double(cyc.size())) * centroid;
     for (int32_t v : cyc) st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(n, points[v] - centroid)) / r);
   }
+  // Only edges at merged vertices changed length: the next pass needs look nowhere else.
+  for (int64_t f : member_faces) {
+    mapped(f, cyc);
+    if (cyc.size() < 3) continue;
+    for (size_t k = 0; k < cyc.size(); ++k) {
+      const int32_t u = cyc[k], v = cyc[(k + 1) % cyc.size()];
+      if (u < v && norm2(points[u] - points[v]) < w * w) edges.push_back({u, v});
+    }
+  }
 
   m.points = std::move(points);
   m.cell_face_begin = std::move(cell_face_begin);
@@ -248,9 +261,10 @@ WeldStats weld_pass(PolyMesh& m, double w, double r) {
 WeldStats weld_mesh(PolyMesh& m, double w, double r) {
   // Merged vertices move (to the keeper or the centroid), which can make a neighbouring edge
   // shorter than w: repeat until a pass finds nothing more to merge.
-  WeldStats total = weld_pass(m, w, r);
-  for (int pass = 1; pass < 16 && total.shortest_edge_after < w; ++pass) {
-    const WeldStats more = weld_pass(m, w, r);
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  WeldStats total = weld_pass(m, w, r, edges);
+  for (int pass = 1; pass < 16 && !edges.empty(); ++pass) {
+    const WeldStats more = weld_pass(m, w, r, edges);
     if (more.edges_collapsed == 0) break;
     total.edges_collapsed += more.edges_collapsed;
     total.faces_removed += more.faces_removed;
