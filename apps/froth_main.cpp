@@ -8,6 +8,9 @@
 #include <filesystem>
 
 #include <omp.h>
+#ifdef FROTH_MPI
+#include <mpi.h>
+#endif
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -97,6 +100,30 @@ int run_mesh(const MeshArgs& a) {
   return 0;
 }
 
+// The MPI world when froth is built with -DFROTH_MPI=ON (one process otherwise).
+struct World {
+  int rank = 0, size = 1;
+  // The largest of every rank's value (all ranks call it).
+  int max(int v) const {
+#ifdef FROTH_MPI
+    int out = v;
+    MPI_Allreduce(&v, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return out;
+#else
+    return v;
+#endif
+  }
+  unsigned long long sum(unsigned long long v) const {
+#ifdef FROTH_MPI
+    unsigned long long out = v;
+    MPI_Allreduce(&v, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    return out;
+#else
+    return v;
+#endif
+  }
+};
+
 struct EnsembleArgs {
   std::string input, dir;
   double r = 0, weld = -1;
@@ -106,8 +133,9 @@ struct EnsembleArgs {
   bool no_quality = false;
 };
 
-int run_ensemble(const EnsembleArgs& a, const std::string& command) {
-  froth::ConvexDomain domain = froth::load_domain(a.input);
+// Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
+// once every rank is done. A rank that fails makes every rank exit with its code.
+int run_ensemble(const EnsembleArgs& a, const std::string& command, const World& world) {
   froth::EnsembleOptions opt;
   opt.input = a.input;
   opt.r = a.r;
@@ -118,14 +146,30 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command) {
   opt.threads = a.threads;
   opt.dir = a.dir;
   opt.command = command;
+  opt.rank = world.rank;
+  opt.ranks = world.size;
   if (isatty(STDERR_FILENO)) opt.progress = [](const std::string& s) { fmt::print(stderr, "froth: {}...\n", s); };
   const auto t0 = std::chrono::steady_clock::now();
-  const froth::EnsembleProgress done = froth::build_members(domain, opt);
+  froth::EnsembleProgress done;
+  int code = 0;
+  try {
+    froth::ConvexDomain domain = froth::load_domain(a.input);
+    done = froth::build_members(domain, opt);
+  } catch (const froth::Error& e) {
+    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
+    code = e.exit_code();
+  }
+  code = world.max(code);
+  if (code != 0) return code;
+  done.built = world.sum(done.built);
+  done.resumed = world.sum(done.resumed);
+  if (world.rank != 0) return 0;
   froth::write_ensemble_summary(opt, done);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}: {} built, {} already complete; "
+  fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}: {} built, {} already complete{}; "
              "{:.3f} s ({:.2f} members per minute). Wrote {}/ensemble.pvd and {}/ensemble.json.\n",
-             a.members, a.input, a.r, a.seed, a.dir, done.built, done.resumed, seconds,
+             a.members, a.input, a.r, a.seed, a.dir, done.built, done.resumed,
+             world.size > 1 ? fmt::format(" on {} ranks", world.size) : "", seconds,
              done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, a.dir, a.dir);
   return 0;
 }
@@ -180,7 +224,7 @@ int run_quality(const QualityArgs& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int froth_main(int argc, char** argv, const World& world) {
   CLI::App app{"froth: uniform random Voronoi meshes by maximal Poisson-disk sampling"};
   app.set_version_flag("--version", FROTH_VERSION);
   app.require_subcommand(1);
@@ -222,14 +266,21 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? 0 : 2;
   }
+  if (ensemble->parsed()) {
+    std::string command;
+    for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
+    try {
+      return run_ensemble(ea, command, world);
+    } catch (const froth::Error& e) {
+      fmt::print(stderr, "froth: error: {}\n", e.what());
+      return e.exit_code();
+    }
+  }
+  // One mesh is made by one process (splitting one mesh over ranks is not implemented yet).
+  if (world.rank != 0) return 0;
   try {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
-    if (ensemble->parsed()) {
-      std::string command;
-      for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
-      return run_ensemble(ea, command);
-    }
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error: {}\n", e.what());
     return e.exit_code();
@@ -241,4 +292,18 @@ int main(int argc, char** argv) {
     return 5;
   }
   return 2;
+}
+
+int main(int argc, char** argv) {
+  World world;
+#ifdef FROTH_MPI
+  MPI_Init(&argc, &argv);
+  MPI_Comm_rank(MPI_COMM_WORLD, &world.rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &world.size);
+  const int code = froth_main(argc, argv, world);
+  MPI_Finalize();
+  return code;
+#else
+  return froth_main(argc, argv, world);
+#endif
 }
