@@ -48,15 +48,15 @@ std::string quality_sentence(const froth::RunReport& run) {
   if (!run.quality) return out;
   const froth::QualityReport& q = *run.quality;
   // The paper's bounds hold before welding.
-  const froth::QualityReport& b = run.quality_before_weld ? *run.quality_before_weld : q;
+  const froth::QualityReport& b = run.bounds_before_weld ? *run.bounds_before_weld : q;
   const auto& in = q.aspect[0];
   const auto& ii = q.dihedral[0];
   out += fmt::format(
       " Quality: interior aspect ratio {:.3f} to {:.3f} (mean {:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, "
       "shortest edge {:.3g}; cells beyond the paper's bounds{}: {} (Theorem 1), {} and {} (Lemma 6).",
-      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, run.quality_before_weld ? " before welding" : "",
+      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, run.bounds_before_weld ? " before welding" : "",
       b.theorem1_violations, b.lemma6_interior_violations, b.lemma6_border_violations);
-  if (run.quality_before_weld)
+  if (run.bounds_before_weld)
     out += fmt::format(" Welding moved aspect ratios by at most {:.2g} and dihedrals by at most {:.2g} degrees.",
                        run.weld_aspect_shift, run.weld_dihedral_shift);
   return out;

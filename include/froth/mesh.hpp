@@ -122,7 +122,8 @@ struct RunReport {
   double domain_volume = 0, volume_sum = 0;
   std::vector<StageTiming> stages;
   std::shared_ptr<const QualityReport> quality;  // when MeshOptions::quality
-  std::shared_ptr<const QualityReport> quality_before_weld;  // when also welding
+  // When also welding: the quality report's bound counts (only those) before welding.
+  std::shared_ptr<const QualityReport> bounds_before_weld;
   std::shared_ptr<const WeldStats> welding;      // when MeshOptions::weld > 0
   double weld_aspect_shift = 0, weld_dihedral_shift = 0;  // largest per-cell change by welding
   double total_seconds = 0;

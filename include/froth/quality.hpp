@@ -17,6 +17,13 @@ namespace froth {
 // welding; after welding faces are slightly non-planar and their best-fit planes are used.
 CellQuality cell_quality(const PolyMesh& mesh, size_t c);
 
+// A cell's metrics and whether it is beyond the paper's bounds (see QualityReport).
+struct CellVerdict {
+  CellQuality q;
+  bool theorem1 = false, lemma6_interior = false, lemma6_border = false;
+};
+CellVerdict cell_verdict(const PolyMesh& mesh, size_t c);
+
 // Edges between two faces, by the faces' kinds.
 enum class DihedralClass : uint8_t { InteriorInterior = 0, BorderInterior = 1, BorderBorder = 2 };
 

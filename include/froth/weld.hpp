@@ -2,6 +2,8 @@
 // global decision, so every cell sees the same merge and the mesh stays conforming.
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <vector>
 
 #include "froth/mesh.hpp"
 
@@ -27,6 +29,8 @@ struct WeldStats {
 // the domain's boundary keep their position when merged with others (the one on the most
 // domain planes wins), so border faces stay on their planes wherever they can; other clusters
 // move to their centroid.
-WeldStats weld_mesh(PolyMesh& mesh, double w, double r);
+// `before_change`, if given, is told the cells welding will change (sorted), before any changes.
+WeldStats weld_mesh(PolyMesh& mesh, double w, double r,
+                    const std::function<void(const std::vector<size_t>& cells)>& before_change = {});
 
 }  // namespace froth

@@ -48,8 +48,9 @@ std::string report_json_text(const RunReport& run) {
                     {"volume_change", run.volume_sum - run.domain_volume}};
   }
   if (run.quality) j["quality"] = nlohmann::ordered_json::parse(quality_json_text(*run.quality));
-  if (run.quality_before_weld) {
-    j["quality_before_welding"] = nlohmann::ordered_json::parse(quality_json_text(*run.quality_before_weld));
+  if (run.bounds_before_weld) {
+    j["quality_before_welding"] = {
+        {"bounds", nlohmann::ordered_json::parse(quality_json_text(*run.bounds_before_weld))["bounds"]}};
     j["welding_shift"] = {{"max_aspect_change", run.weld_aspect_shift},
                           {"max_dihedral_change_degrees", run.weld_dihedral_shift}};
   }

@@ -111,6 +111,22 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   return q;
 }
 
+// The paper's bounds for one cell: Theorem 1 and Lemma 6 speak of interior cells, Lemma 6's
+// border-interior bound of every cell.
+CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedral>& angles) {
+  CellVerdict v;
+  v.q = q;
+  const bool interior = kind == CellKind::Interior;
+  v.theorem1 = interior && !(q.aspect <= kTheorem1Aspect);
+  for (const Dihedral& d : angles) {
+    if (d.cls == DihedralClass::InteriorInterior && interior)
+      v.lemma6_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+    if (d.cls == DihedralClass::BorderInterior)
+      v.lemma6_border |= d.degrees < 30 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+  }
+  return v;
+}
+
 constexpr int kAspectBins = 60;
 constexpr double kAspectLo = 1, kAspectHi = 4;
 constexpr int kDihedralBins = 90;
@@ -175,6 +191,13 @@ CellQuality cell_quality(const PolyMesh& mesh, size_t c) {
   return measure(mesh, c, w, nullptr);
 }
 
+CellVerdict cell_verdict(const PolyMesh& mesh, size_t c) {
+  CellScratch w;
+  std::vector<Dihedral> angles;
+  const CellQuality q = measure(mesh, c, w, &angles);
+  return judge(mesh.kinds[c], q, angles);
+}
+
 QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_cell) {
   constexpr size_t kChunk = 4096;  // fixed, so sums add up in one order for any thread count
   const size_t n = m.cell_count(), chunks = (n + kChunk - 1) / kChunk;
@@ -199,19 +222,14 @@ QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_ce
         r.inradius[kind].add(q.inradius);
         r.min_edge[kind].add(q.min_edge);
         r.faces[kind].add(q.faces);
-        const bool interior = m.kinds[c] == CellKind::Interior;
-        if (interior && !(q.aspect <= kTheorem1Aspect)) ++r.theorem1_violations;
-        bool bad_interior = false, bad_border = false;
         for (const Dihedral& d : angles) {
           r.dihedral[int(d.cls)].add(d.degrees);
           r.dihedral_histogram[int(d.cls)].add(d.degrees);
-          if (d.cls == DihedralClass::InteriorInterior && interior)
-            bad_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 150 + kAngleSlack;
-          if (d.cls == DihedralClass::BorderInterior)
-            bad_border |= d.degrees < 30 - kAngleSlack || d.degrees > 150 + kAngleSlack;
         }
-        r.lemma6_interior_violations += bad_interior;
-        r.lemma6_border_violations += bad_border;
+        const CellVerdict v = judge(m.kinds[c], q, angles);
+        r.theorem1_violations += v.theorem1;
+        r.lemma6_interior_violations += v.lemma6_interior;
+        r.lemma6_border_violations += v.lemma6_border;
       }
     }
   }

@@ -41,7 +41,8 @@ void collapsed(const PolyMesh& m, int64_t b, int64_t e, UnionFind& uf, std::vect
 // One pass: merges along the edges shorter than w as they are.
 // `edges`: the short edges if known (later passes), else empty and found by a scan of all
 // faces; on return, the edges shorter than w among the faces this pass changed.
-WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges) {
+WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges,
+                    const std::function<void(const std::vector<size_t>&)>& before_change) {
   WeldStats st;
   st.tolerance = w;
   // One parallel pass: the short edges (in face order, deduplicated below: each is seen from
@@ -90,6 +91,15 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         }
   std::vector<int64_t> member_faces;
   for (auto& t : touched) member_faces.insert(member_faces.end(), t.begin(), t.end());
+  if (before_change) {
+    // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
+    std::vector<size_t> cells;
+    for (int64_t f : member_faces)
+      cells.push_back(size_t(std::upper_bound(m.cell_face_begin.begin(), m.cell_face_begin.end(), f) -
+                             m.cell_face_begin.begin() - 1));
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    before_change(cells);
+  }
 
   // Merge, then refuse every cluster that would make a face touch itself (a vertex twice, not
   // in a row), and merge again without it, until no face is pinched.
@@ -258,13 +268,16 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
 
 }  // namespace
 
-WeldStats weld_mesh(PolyMesh& m, double w, double r) {
+WeldStats weld_mesh(PolyMesh& m, double w, double r,
+                    const std::function<void(const std::vector<size_t>& cells)>& before_change) {
   // Merged vertices move (to the keeper or the centroid), which can make a neighbouring edge
   // shorter than w: repeat until a pass finds nothing more to merge.
   std::vector<std::pair<int32_t, int32_t>> edges;
-  WeldStats total = weld_pass(m, w, r, edges);
+  // A later pass's short edges all have a vertex the first pass moved, so the cells it changes
+  // were changed by the first pass already: before_change is told once.
+  WeldStats total = weld_pass(m, w, r, edges, before_change);
   for (int pass = 1; pass < 16 && !edges.empty(); ++pass) {
-    const WeldStats more = weld_pass(m, w, r, edges);
+    const WeldStats more = weld_pass(m, w, r, edges, {});
     if (more.edges_collapsed == 0) break;
     total.edges_collapsed += more.edges_collapsed;
     total.faces_removed += more.faces_removed;

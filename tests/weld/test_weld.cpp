@@ -8,6 +8,7 @@
 
 #include "common/test_support.hpp"
 #include "froth/validate.hpp"
+#include "froth/quality.hpp"
 #include "froth/weld.hpp"
 
 namespace froth {
@@ -91,6 +92,43 @@ TEST(Weld, BorderVerticesStayOnTheDomain) {
       EXPECT_LT(std::abs(d), 1e-12);
     }
   }
+}
+
+}  // namespace
+}  // namespace froth
+
+namespace froth {
+namespace {
+
+// The bound counts before welding come from the welded mesh's counts with the welded cells'
+// verdicts swapped back: they must equal a full count on the unwelded mesh, and per-cell
+// verdicts must add up to the report's counts.
+TEST(Weld, BoundsBeforeWeldingMatchTheUnweldedMesh) {
+  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  MeshOptions opt;
+  opt.r = 0.1;
+  opt.seed = 8;
+  opt.quality = true;
+  RunReport plain, welded;
+  generate_mesh(d, opt, &plain);
+  opt.weld = 0.2 * opt.r;  // large: welding visibly distorts cells
+  PolyMesh m = generate_mesh(d, opt, &welded);
+  ASSERT_TRUE(welded.bounds_before_weld && welded.quality && plain.quality);
+  EXPECT_EQ(welded.bounds_before_weld->theorem1_violations, plain.quality->theorem1_violations);
+  EXPECT_EQ(welded.bounds_before_weld->lemma6_interior_violations, plain.quality->lemma6_interior_violations);
+  EXPECT_EQ(welded.bounds_before_weld->lemma6_border_violations, plain.quality->lemma6_border_violations);
+  uint64_t t1 = 0, l6i = 0, l6b = 0;
+  for (size_t c = 0; c < m.cell_count(); ++c) {
+    const CellVerdict v = cell_verdict(m, c);
+    t1 += v.theorem1, l6i += v.lemma6_interior, l6b += v.lemma6_border;
+    EXPECT_EQ(v.q.aspect, m.quality[c].aspect);
+  }
+  EXPECT_EQ(t1, welded.quality->theorem1_violations);
+  EXPECT_EQ(l6i, welded.quality->lemma6_interior_violations);
+  EXPECT_EQ(l6b, welded.quality->lemma6_border_violations);
+  EXPECT_GT(welded.weld_aspect_shift, 0);
+  std::printf("after welding at 0.2 r: %llu, %llu, %llu cells beyond the bounds\n", (unsigned long long)t1,
+              (unsigned long long)l6i, (unsigned long long)l6b);
 }
 
 }  // namespace
