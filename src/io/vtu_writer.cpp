@@ -94,6 +94,24 @@ std::string version_numbers(std::string v) {
   return v;
 }
 
+// Streams Int64 values cell by cell: cell c has count(c) values, written by fill(c, out). Cells
+// go in batches; each batch is filled by all threads, then written in order, so the file is
+// the same for any thread count and only one batch is held in memory.
+template <class Count, class Fill>
+void stream_cells(std::ostream& out, size_t n, Count count, Fill fill) {
+  constexpr size_t kBatch = size_t(1) << 15;
+  std::vector<int64_t> offsets, values;
+  for (size_t b0 = 0; b0 < n; b0 += kBatch) {
+    const size_t b1 = std::min(n, b0 + kBatch);
+    offsets.assign(1, 0);
+    for (size_t c = b0; c < b1; ++c) offsets.push_back(offsets.back() + int64_t(count(c)));
+    values.resize(size_t(offsets.back()));
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t c = b0; c < b1; ++c) fill(c, values.data() + offsets[c - b0]);
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(int64_t)));
+  }
+}
+
 // Each cell's distinct points, sorted (VTK's cell connectivity for a polyhedron).
 void cell_points(const PolyMesh& m, size_t c, std::vector<int32_t>& pts) {
   pts.assign(m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c]],
@@ -122,6 +140,10 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
   }
   // faces: per cell its face count, then per face its size and vertex ids.
   const uint64_t faces = n + m.face_count() + m.face_vertices.size();
+  const auto stream_length = [&m](size_t c) {
+    const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+    return 1 + (f1 - f0) + (m.face_vertex_begin[f1] - m.face_vertex_begin[f0]);
+  };
 
   AppendedBlocks w;
   std::ostringstream xml;
@@ -140,12 +162,13 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
   xml << data_array(
       w, connectivity * 8,
       [&](std::ostream& out) {
-        ValueWriter<int64_t> vw(out);
-        std::vector<int32_t> pts;
-        for (size_t c = 0; c < n; ++c) {
-          cell_points(m, c, pts);
-          for (int32_t p : pts) vw.put(p);
-        }
+        stream_cells(
+            out, n, [&](size_t c) { return npts[c]; },
+            [&](size_t c, int64_t* dst) {
+              thread_local std::vector<int32_t> pts;
+              cell_points(m, c, pts);
+              std::copy(pts.begin(), pts.end(), dst);
+            });
       },
       "Int64", "connectivity");
   xml << end_offsets(w, n, [&](size_t c) { return int64_t(npts[c]); }, "offsets");
@@ -159,24 +182,16 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
   xml << data_array(
       w, faces * 8,
       [&](std::ostream& out) {
-        ValueWriter<int64_t> vw(out);
-        for (size_t c = 0; c < n; ++c) {
-          vw.put(m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
+        stream_cells(out, n, stream_length, [&](size_t c, int64_t* dst) {
+          *dst++ = m.cell_face_begin[c + 1] - m.cell_face_begin[c];
           for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-            vw.put(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
-            for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) vw.put(m.face_vertices[k]);
+            *dst++ = m.face_vertex_begin[f + 1] - m.face_vertex_begin[f];
+            for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) *dst++ = m.face_vertices[k];
           }
-        }
+        });
       },
       "Int64", "faces");
-  // Each cell's face stream: its face count, then per face its size and vertex ids.
-  xml << end_offsets(
-      w, n,
-      [&](size_t c) {
-        const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
-        return 1 + (f1 - f0) + (m.face_vertex_begin[f1] - m.face_vertex_begin[f0]);
-      },
-      "faceoffsets");
+  xml << end_offsets(w, n, stream_length, "faceoffsets");
   xml << "</Cells>\n<CellData>\n" << raw_array(w, m.seeds, "Float64", "seed", 3);
   xml << data_array(
       w, n * 4,
