@@ -19,6 +19,9 @@ struct TriangleSurface {
 // Reads binary or ASCII STL (ASCII may hold several `solid` blocks). Throws Error.
 TriangleSurface read_stl(const std::filesystem::path& path);
 
+// Reads OFF, OBJ or PLY (ASCII or binary); polygons are fanned into triangles. Throws Error.
+TriangleSurface read_polygon_file(const std::filesystem::path& path);
+
 struct ConvexDomain {
   std::string description;      // "box:..." or the file name
   std::vector<Plane> planes;    // distinct facet planes, outward normals

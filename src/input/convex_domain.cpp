@@ -178,11 +178,12 @@ ConvexDomain load_domain(const std::string& input) {
   std::filesystem::path path(input);
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".stl")
-    fail(ErrorKind::Usage,
-         fmt::format("{}: unsupported input format '{}' (this version reads STL, or box:X0,Y0,Z0,X1,Y1,Z1)", input,
-                     ext));
-  return convex_domain_from_surface(read_stl(path), path.filename().string());
+  if (ext == ".stl") return convex_domain_from_surface(read_stl(path), path.filename().string());
+  if (ext == ".off" || ext == ".obj" || ext == ".ply")
+    return convex_domain_from_surface(read_polygon_file(path), path.filename().string());
+  fail(ErrorKind::Usage,
+       fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
+                   input, ext));
 }
 
 }  // namespace froth

@@ -147,5 +147,71 @@ TEST(Input, CubeStlAndBoxSpecGiveTheSameMesh) {
   }
 }
 
+
+// The unit cube [0, 1]^3 in OFF (quads), OBJ (quads, `o` and normals), ASCII PLY and binary PLY:
+// all read to the box's six planes and volume.
+const double kCube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+const int kQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+
+void expect_unit_cube(const std::string& path) {
+  const ConvexDomain d = load_domain(path);
+  EXPECT_EQ(d.planes.size(), 6u) << path;
+  EXPECT_NEAR(d.volume, 1, 1e-15) << path;
+  EXPECT_NEAR(d.surface_area, 6, 1e-14) << path;
+}
+
+TEST(Input, CubeAsOffObjAndPly) {
+  const std::string dir = testing::TempDir();
+  {
+    std::ofstream off(dir + "/cube.off");
+    off << "OFF\n8 6 0\n";
+    for (auto& v : kCube) off << v[0] << " " << v[1] << " " << v[2] << "\n";
+    for (auto& q : kQuads) off << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << "\n";
+  }
+  {
+    std::ofstream obj(dir + "/cube.obj");
+    obj << "o cube\n";
+    for (auto& v : kCube) obj << "v " << v[0] << " " << v[1] << " " << v[2] << "\n";
+    obj << "vn 0 0 1\n";
+    for (auto& q : kQuads) obj << "f " << q[0] + 1 << "//1 " << q[1] + 1 << "//1 " << q[2] + 1 << "//1 " << q[3] + 1 << "//1\n";
+  }
+  const std::string header = "element vertex 8\nproperty double x\nproperty double y\nproperty double z\n"
+                             "element face 6\nproperty list uchar int vertex_indices\nend_header\n";
+  {
+    std::ofstream ply(dir + "/cube_ascii.ply");
+    ply << "ply\nformat ascii 1.0\n" << header;
+    for (auto& v : kCube) ply << v[0] << " " << v[1] << " " << v[2] << "\n";
+    for (auto& q : kQuads) ply << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << "\n";
+  }
+  {
+    std::ofstream ply(dir + "/cube_binary.ply", std::ios::binary);
+    ply << "ply\nformat binary_little_endian 1.0\n" << header;
+    for (auto& v : kCube) ply.write(reinterpret_cast<const char*>(v), sizeof v);
+    for (auto& q : kQuads) {
+      const uint8_t n = 4;
+      ply.write(reinterpret_cast<const char*>(&n), 1);
+      ply.write(reinterpret_cast<const char*>(q), sizeof q);
+    }
+  }
+  for (const char* name : {"cube.off", "cube.obj", "cube_ascii.ply", "cube_binary.ply"}) expect_unit_cube(dir + "/" + name);
+}
+
+TEST(Input, SharedModelsInOtherFormatsGetTheirOwnMessages) {
+  auto message = [](const char* model) { return error_text_of([&] { load_domain(test::model(model)); }); };
+  EXPECT_NE(message("hollow_sphere.off").find("more than one component"), std::string::npos);
+  EXPECT_NE(message("joined_tetrahedra.obj").find("not manifold"), std::string::npos);
+  EXPECT_NE(message("step.off").find("not convex"), std::string::npos);
+}
+
+TEST(Input, BrokenOffIsInvalidInput) {
+  const std::string dir = testing::TempDir();
+  std::ofstream(dir + "/broken.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+  std::ofstream(dir + "/garbage.ply") << "this is not a ply file";
+  EXPECT_EQ(error_kind_of([&] { load_domain(dir + "/broken.off"); }), ErrorKind::InvalidInput);
+  EXPECT_EQ(error_kind_of([&] { load_domain(dir + "/garbage.ply"); }), ErrorKind::InvalidInput);
+  EXPECT_EQ(error_kind_of([&] { load_domain(dir + "/missing.obj"); }), ErrorKind::Io);
+  EXPECT_EQ(error_kind_of([&] { load_domain(dir + "/cube.vtk"); }), ErrorKind::Usage);
+}
+
 }  // namespace
 }  // namespace froth
