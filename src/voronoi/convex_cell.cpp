@@ -12,29 +12,30 @@ double det3(Vec3 a, Vec3 b, Vec3 c) { return dot(a, cross(b, c)); }
 void ConvexCell::reset_cube(double h) {
   // Faces -x, +x, -y, +y, -z, +z are planes (and generators) 0..5.
   static const Vec3 normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  // Corner c has coordinates (±h) by bits of c and lies on one plane per axis, ordered so that
+  // the normals are counter-clockwise seen from outside (positive determinant); adjacency is
+  // the triangle holding the reversed edge. The same for every cube: built once.
+  static const std::array<Tri, 8> cube = [] {
+    std::array<Tri, 8> t{};
+    for (int c = 0; c < 8; ++c) {
+      t[c].p[0] = uint8_t((c & 1) ? 1 : 0);
+      t[c].p[1] = uint8_t((c & 2) ? 3 : 2);
+      t[c].p[2] = uint8_t((c & 4) ? 5 : 4);
+      if (det3(normals[t[c].p[0]], normals[t[c].p[1]], normals[t[c].p[2]]) < 0) std::swap(t[c].p[1], t[c].p[2]);
+    }
+    for (int a = 0; a < 8; ++a)
+      for (int k = 0; k < 3; ++k)
+        for (int o = 0; o < 8; ++o)
+          for (int j = 0; j < 3; ++j)
+            if (t[o].p[(j + 1) % 3] == t[a].p[(k + 2) % 3] && t[o].p[(j + 2) % 3] == t[a].p[(k + 1) % 3])
+              t[a].adj[k] = uint16_t(o);
+    return t;
+  }();
   planes_.clear();
   for (int f = 0; f < 6; ++f) planes_.push_back({normals[f], h, kCubeGenerator + f});
-  tri_.clear();
+  tri_.assign(cube.begin(), cube.end());
   pos_.clear();
-  // Corner c has coordinates (±h) by bits of c and lies on one plane per axis, ordered so that
-  // the normals are counter-clockwise seen from outside (positive determinant).
-  for (int c = 0; c < 8; ++c) {
-    Tri t;
-    t.p[0] = uint8_t((c & 1) ? 1 : 0);
-    t.p[1] = uint8_t((c & 2) ? 3 : 2);
-    t.p[2] = uint8_t((c & 4) ? 5 : 4);
-    if (det3(planes_[t.p[0]].n, planes_[t.p[1]].n, planes_[t.p[2]].n) < 0) std::swap(t.p[1], t.p[2]);
-    tri_.push_back(t);
-    pos_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
-  }
-  // Adjacency: the triangle holding the reversed edge.
-  for (size_t t = 0; t < tri_.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const uint8_t a = tri_[t].p[(k + 1) % 3], b = tri_[t].p[(k + 2) % 3];
-      for (size_t o = 0; o < tri_.size(); ++o)
-        for (int j = 0; j < 3; ++j)
-          if (tri_[o].p[(j + 1) % 3] == b && tri_[o].p[(j + 2) % 3] == a) tri_[t].adj[k] = uint16_t(o);
-    }
+  for (int c = 0; c < 8; ++c) pos_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
   border_from_.fill(kNone);
   faces_valid_ = rmax_valid_ = false;
 }
