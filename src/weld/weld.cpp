@@ -27,19 +27,18 @@ struct UnionFind {
   }
 };
 
-// A face's vertices mapped through `root`, with consecutive repeats (cyclically) removed.
-void collapsed(const PolyMesh& m, int64_t b, int64_t e, UnionFind& uf, std::vector<int32_t>& out) {
+// Face f's vertices mapped through `map`, with consecutive repeats (cyclically) removed.
+template <class Map>
+void collapsed(const PolyMesh& m, int64_t f, Map&& map, std::vector<int32_t>& out) {
   out.clear();
-  for (int64_t k = b; k < e; ++k) {
-    const int32_t v = uf.find(m.face_vertices[k]);
+  for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
+    const int32_t v = map(m.face_vertices[k]);
     if (out.empty() || out.back() != v) out.push_back(v);
   }
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
 }
 
-
-// One pass: merges along the edges shorter than w as they are.
-// `edges`: the short edges if known (later passes), else empty and found by a scan of all
+// One pass: merges along the edges shorter than w as they are. `edges`: the short edges if known (later passes), else empty and found by a scan of all
 // faces; on return, the edges shorter than w among the faces this pass changed.
 WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges,
                     const std::function<void(const std::vector<size_t>&)>& before_change) {
@@ -112,7 +111,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     bool pinched = false;
     for (int64_t f : member_faces) {
       const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-      collapsed(m, b, e, uf, cyc);
+      collapsed(m, f, [&](int32_t v) { return uf.find(v); }, cyc);
       sorted = cyc;
       std::sort(sorted.begin(), sorted.end());
       for (size_t k = 1; k < sorted.size(); ++k)
@@ -182,12 +181,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   const size_t nc = m.cell_count(), cell_chunk = 4096, cell_chunks = (nc + cell_chunk - 1) / cell_chunk;
   std::vector<int64_t> chunk_faces(cell_chunks + 1, 0), chunk_entries(cell_chunks + 1, 0);
   auto mapped = [&](int64_t f, std::vector<int32_t>& out) {
-    out.clear();
-    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
-      const int32_t v = new_id[m.face_vertices[k]];
-      if (out.empty() || out.back() != v) out.push_back(v);
-    }
-    while (out.size() > 1 && out.back() == out.front()) out.pop_back();
+    collapsed(m, f, [&](int32_t v) { return new_id[v]; }, out);
   };
   uint64_t removed = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : removed)
