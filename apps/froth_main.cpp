@@ -28,6 +28,7 @@ struct MeshArgs {
   int threads = 0;
   std::string report;
   bool no_quality = false;
+  double feature_angle = froth::kDefaultFeatureAngle;
 };
 
 std::string default_output(const std::string& input) {
@@ -36,7 +37,10 @@ std::string default_output(const std::string& input) {
 }
 
 std::string quality_sentence(const froth::RunReport& run) {
-  std::string out;
+  const froth::FeatureSummary& f = run.features;
+  std::string out = fmt::format(
+      " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges.",
+      f.angle_degrees, f.convex_edges, f.reflex_edges, f.curves, f.corners, f.flat_edges);
   if (run.welding) {
     const froth::WeldStats& w = *run.welding;
     out += fmt::format(
@@ -77,7 +81,7 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
 }
 
 int run_mesh(const MeshArgs& a) {
-  froth::ConvexDomain domain = froth::load_domain(a.input);
+  froth::ConvexDomain domain = froth::load_domain(a.input, a.feature_angle);
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
@@ -131,6 +135,7 @@ struct EnsembleArgs {
   size_t members = 0;
   int threads = 0;
   bool no_quality = false;
+  double feature_angle = froth::kDefaultFeatureAngle;
 };
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
@@ -153,7 +158,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   froth::EnsembleProgress done;
   int code = 0;
   try {
-    froth::ConvexDomain domain = froth::load_domain(a.input);
+    froth::ConvexDomain domain = froth::load_domain(a.input, a.feature_angle);
     done = froth::build_members(domain, opt);
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
@@ -242,6 +247,8 @@ int froth_main(int argc, char** argv, const World& world) {
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
   mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
+  mesh->add_option("--feature-angle", a.feature_angle,
+                   "input edges turning by more than this many degrees are features (default 30)");
   EnsembleArgs ea;
   CLI::App* ensemble = app.add_subcommand("ensemble", "make N independent meshes of one domain (resumable)");
   ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed convex STL surface")->required();
@@ -253,6 +260,7 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 r; 0 = off)")->check(CLI::NonNegativeNumber);
   ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
   ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
+  ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
   quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();

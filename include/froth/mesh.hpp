@@ -116,6 +116,7 @@ struct RunReport {
   uint64_t seed = 0;
   double weld = 0;
   int threads = 0;
+  FeatureSummary features;  // of the input surface
   SamplingStats sampling;
   size_t cells = 0, interior_cells = 0, fringe_cells = 0;
   size_t faces = 0, points = 0;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "froth/domain.hpp"
+#include "features/features.hpp"
 #include "froth/error.hpp"
 
 namespace froth {
@@ -173,17 +174,44 @@ ConvexDomain convex_domain_from_surface(const TriangleSurface& s, const std::str
   return d;
 }
 
-ConvexDomain load_domain(const std::string& input) {
-  if (input.rfind("box:", 0) == 0) return parse_box_spec(input);
+namespace {
+
+// The box as a triangle surface (outward), for its features.
+TriangleSurface box_surface(const Box& b) {
+  TriangleSurface s;
+  for (int c = 0; c < 8; ++c)
+    s.vertices.push_back({(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z});
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {1, 3, 7, 5}, {0, 4, 6, 2}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({q[0], q[1], q[2]});
+    s.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return s;
+}
+
+}  // namespace
+
+ConvexDomain load_domain(const std::string& input, double feature_angle) {
+  if (!(feature_angle > 0 && feature_angle < 180))
+    fail(ErrorKind::Usage, fmt::format("the feature angle must be between 0 and 180 degrees, got {}", feature_angle));
+  if (input.rfind("box:", 0) == 0) {
+    ConvexDomain d = parse_box_spec(input);
+    d.features = classify_features(box_surface(d.bounds), feature_angle).summary();
+    return d;
+  }
   std::filesystem::path path(input);
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".stl") return convex_domain_from_surface(read_stl(path), path.filename().string());
-  if (ext == ".off" || ext == ".obj" || ext == ".ply")
-    return convex_domain_from_surface(read_polygon_file(path), path.filename().string());
-  fail(ErrorKind::Usage,
-       fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
-                   input, ext));
+  TriangleSurface surface;
+  if (ext == ".stl") surface = read_stl(path);
+  else if (ext == ".off" || ext == ".obj" || ext == ".ply") surface = read_polygon_file(path);
+  else
+    fail(ErrorKind::Usage,
+         fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
+                     input, ext));
+  ConvexDomain d = convex_domain_from_surface(surface, path.filename().string());
+  d.features = classify_features(surface, feature_angle).summary();
+  return d;
 }
 
 }  // namespace froth

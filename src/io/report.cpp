@@ -13,6 +13,11 @@ std::string report_json_text(const RunReport& run) {
   j["froth_version"] = FROTH_VERSION;
   j["input"] = {{"domain", run.domain}, {"r", run.r}, {"random_seed", run.seed}, {"weld", run.weld},
                 {"threads", run.threads}};
+  const auto& f = run.features;
+  j["features"] = {{"angle_degrees", f.angle_degrees}, {"flat_edges", f.flat_edges},
+                   {"convex_edges", f.convex_edges},   {"reflex_edges", f.reflex_edges},
+                   {"curves", f.curves},               {"convex_curves", f.convex_curves},
+                   {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};
   const auto& s = run.sampling;
   j["sampling"] = {{"seeds", s.seeds},
                    {"darts", s.darts},

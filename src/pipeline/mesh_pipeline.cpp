@@ -71,6 +71,7 @@ PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunRe
   run.weld = opt.weld;
   run.threads = omp_get_max_threads();
   run.domain_volume = domain.volume;
+  run.features = domain.features;
 
   auto progress = [&](const char* stage) {
     if (opt.progress) opt.progress(stage);

@@ -63,6 +63,11 @@ for name, domain, r, volume in [("box", "box:0,0,0,1,2,1", 0.12, 2.0),
     check("cells" in p.stdout and "relative error" in p.stdout, f"{name}: summary paragraph missing")
     report = json.load(open(rep))
     cells = report["mesh"]["cells"]
+    feats = report["features"]
+    expect = {"convex_edges": 12, "reflex_edges": 0, "corners": 8, "curves": 12} if name == "box" else \
+        {"convex_edges": 0, "reflex_edges": 0, "corners": 0, "curves": 0, "flat_edges": 1920}
+    check(all(feats[k] == v for k, v in expect.items()) and feats["angle_degrees"] == 30,
+          f"{name}: features {feats}")
     check(report["volume"]["relative_error"] <= 1e-9, f"{name}: report volume error")
     if volume is not None:
         check(abs(report["volume"]["domain"] - volume) < 1e-12, f"{name}: domain volume")
@@ -163,6 +168,7 @@ for args, code, words in [
     (["box:0,0,0,1,1,1", "-r", "0.3", "--threads", "-2"], 2, "not in range"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "0.5"], 2, "weld tolerance must be in [0, r)"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "-1"], 2, "--weld"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--feature-angle", "190"], 2, "feature angle must be between 0 and 180"),
 ]:
     out = os.path.join(tmp, "bad.vtu")
     p = froth("mesh", *args, "-o", out)

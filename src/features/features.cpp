@@ -1,0 +1,99 @@
+#include "features/features.hpp"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace froth {
+
+FeatureSummary SurfaceFeatures::summary() const {
+  FeatureSummary s;
+  s.angle_degrees = angle_degrees;
+  s.flat_edges = flat_edges, s.convex_edges = convex_edges, s.reflex_edges = reflex_edges;
+  s.curves = curves.size();
+  s.corners = corners.size();
+  for (const FeatureCurve& c : curves) (c.cls == EdgeClass::Reflex ? s.reflex_curves : s.convex_curves)++;
+  return s;
+}
+
+SurfaceFeatures classify_features(const TriangleSurface& s, double angle_degrees) {
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto point = [&](int32_t v) { return Kernel::Point_3(s.vertices[v].x, s.vertices[v].y, s.vertices[v].z); };
+  SurfaceFeatures out;
+  out.angle_degrees = angle_degrees;
+  const double cos_limit = std::cos(angle_degrees * M_PI / 180);
+  // Directed edge (a, b) -> triangle; the twin (b, a) is the other triangle at the edge.
+  std::map<std::pair<int32_t, int32_t>, int32_t> owner;
+  for (size_t t = 0; t < s.triangles.size(); ++t)
+    for (int e = 0; e < 3; ++e) owner[{s.triangles[t][e], s.triangles[t][(e + 1) % 3]}] = int32_t(t);
+  auto normal = [&](int32_t t) {
+    const auto& tri = s.triangles[t];
+    const Vec3 n = cross(s.vertices[tri[1]] - s.vertices[tri[0]], s.vertices[tri[2]] - s.vertices[tri[0]]);
+    return (1 / norm(n)) * n;
+  };
+  auto third = [&](int32_t t, int32_t a, int32_t b) {
+    for (int32_t v : s.triangles[t])
+      if (v != a && v != b) return v;
+    return a;
+  };
+  // Feature edges as an adjacency list per vertex.
+  std::map<int32_t, std::vector<std::pair<int32_t, EdgeClass>>> graph;
+  for (const auto& [edge, t0] : owner) {
+    const auto [a, b] = edge;
+    if (a > b) continue;  // each undirected edge once
+    auto twin = owner.find({b, a});
+    if (twin == owner.end()) continue;
+    const int32_t t1 = twin->second;
+    if (dot(normal(t0), normal(t1)) >= cos_limit) {
+      ++out.flat_edges;
+      continue;
+    }
+    // Reflex if t1's far vertex lies above t0's plane (outward normals): orientation() is the
+    // sign of det(q - p, r - p, s - p), that is of dot(normal, s - p).
+    const auto& tri = s.triangles[t0];
+    const bool reflex = CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]), point(third(t1, a, b))) ==
+                        CGAL::POSITIVE;
+    const EdgeClass cls = reflex ? EdgeClass::Reflex : EdgeClass::Convex;
+    (reflex ? out.reflex_edges : out.convex_edges)++;
+    graph[a].push_back({b, cls});
+    graph[b].push_back({a, cls});
+  }
+  // Corners: not exactly two feature edges, or two of different classes.
+  std::map<int32_t, bool> corner;
+  for (const auto& [v, nb] : graph) {
+    const bool c = nb.size() != 2 || nb[0].second != nb[1].second;
+    corner[v] = c;
+    if (c) out.corners.push_back(v);
+  }
+  // Curves: walk from each corner along each of its feature edges to the next corner; then the
+  // closed loops that have no corner.
+  std::map<std::pair<int32_t, int32_t>, bool> used;
+  auto walk = [&](int32_t start, int32_t next, EdgeClass cls) {
+    FeatureCurve curve{cls, {start}, false};
+    int32_t prev = start, cur = next;
+    used[{std::min(prev, cur), std::max(prev, cur)}] = true;
+    while (true) {
+      curve.vertices.push_back(cur);
+      if (corner[cur] || cur == start) break;
+      int32_t step = -1;
+      for (const auto& [w, c] : graph[cur])
+        if (w != prev && !used[{std::min(cur, w), std::max(cur, w)}]) step = w;
+      if (step < 0) break;
+      used[{std::min(cur, step), std::max(cur, step)}] = true;
+      prev = cur, cur = step;
+    }
+    curve.closed = curve.vertices.front() == curve.vertices.back() && !corner[curve.vertices.front()];
+    out.curves.push_back(std::move(curve));
+  };
+  for (int32_t c : out.corners)
+    for (const auto& [w, cls] : graph[c])
+      if (!used[{std::min(c, w), std::max(c, w)}]) walk(c, w, cls);
+  for (const auto& [v, nb] : graph)
+    for (const auto& [w, cls] : nb)
+      if (!used[{std::min(v, w), std::max(v, w)}]) walk(v, w, cls);
+  return out;
+}
+
+}  // namespace froth
