@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "froth/domain.hpp"
+#include "common/union_find.hpp"
 #include "features/features.hpp"
 #include "froth/error.hpp"
 
@@ -20,19 +21,6 @@ using Point = Kernel::Point_3;
 
 Point to_cgal(Vec3 p) { return Point(p.x, p.y, p.z); }
 std::string fmt_point(Vec3 p) { return fmt::format("({}, {}, {})", p.x, p.y, p.z); }
-
-struct UnionFind {
-  std::vector<int32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int32_t find(int32_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  }
-  void unite(int32_t a, int32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 }  // namespace
 

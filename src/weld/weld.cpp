@@ -5,27 +5,10 @@
 #include <cmath>
 #include <map>
 
+#include "common/union_find.hpp"
+
 namespace froth {
 namespace {
-
-struct UnionFind {
-  std::vector<int32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) {
-    for (size_t i = 0; i < n; ++i) parent[i] = int32_t(i);
-  }
-  int32_t find(int32_t v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  }
-  // The smaller id becomes the root, so the result does not depend on the order of unions.
-  bool unite(int32_t a, int32_t b) {
-    a = find(a), b = find(b);
-    if (a == b) return false;
-    if (a > b) std::swap(a, b);
-    parent[b] = a;
-    return true;
-  }
-};
 
 // Face f's vertices mapped through `map`, with consecutive repeats (cyclically) removed.
 template <class Map>
