@@ -36,7 +36,15 @@ std::string default_output(const std::string& input) {
   return std::filesystem::path(input).stem().string() + ".vtu";
 }
 
-std::string quality_sentence(const froth::RunReport& run) {
+// Seeds are unsigned 64-bit: CLI11 would wrap a negative one around.
+const CLI::Validator kNonNegativeSeed(
+    [](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; }, "SEED");
+
+// --weld: negative (unset) means the default, 1e-4 r.
+double weld_tolerance(double weld, double r) { return weld < 0 ? 1e-4 * r : weld; }
+
+// The summary's sentences on features, welding and quality.
+std::string details_sentence(const froth::RunReport& run) {
   const froth::FeatureSummary& f = run.features;
   std::string out = fmt::format(
       " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges.",
@@ -76,7 +84,7 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
       "s; total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
       run.domain, run.r, run.seed, run.cells, run.interior_cells, run.fringe_cells, run.sampling.seeds, run.faces,
       run.points, run.volume_sum, run.domain_volume, run.volume_relative_error(), run.sampling.darts,
-      run.sampling.levels, quality_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
+      run.sampling.levels, details_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
       run.threads, run.peak_rss_bytes / 1048576.0, output);
 }
 
@@ -85,7 +93,7 @@ int run_mesh(const MeshArgs& a) {
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
-  opt.weld = a.weld < 0 ? 1e-4 * a.r : a.weld;
+  opt.weld = weld_tolerance(a.weld, a.r);
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
   if (isatty(STDERR_FILENO))
@@ -146,7 +154,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.r = a.r;
   opt.seed = a.seed;
   opt.members = a.members;
-  opt.weld = a.weld < 0 ? 1e-4 * a.r : a.weld;
+  opt.weld = weld_tolerance(a.weld, a.r);
   opt.quality = !a.no_quality;
   opt.threads = a.threads;
   opt.dir = a.dir;
@@ -239,7 +247,7 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
       ->required();
   mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
-      ->check([](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; });
+      ->check(kNonNegativeSeed);
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
   mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 r; 0 = off)")
       ->check(CLI::NonNegativeNumber);
@@ -255,7 +263,7 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("-r,--radius", ea.r, "sampling radius r")->required();
   ensemble->add_option("-n,--members", ea.members, "number of members")->required()->check(CLI::Range(1, 1000000));
   ensemble->add_option("--seed", ea.seed, "ensemble seed S; member k has seed froth::member_seed(S, k)")
-      ->check([](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; });
+      ->check(kNonNegativeSeed);
   ensemble->add_option("-o,--output", ea.dir, "output directory")->required();
   ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 r; 0 = off)")->check(CLI::NonNegativeNumber);
   ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
