@@ -5,14 +5,13 @@
 #include <CGAL/IO/polygon_soup_io.h>
 
 #include <cmath>
-#include <cstring>
 #include <fstream>
-#include <unordered_map>
 
 #include <fmt/format.h>
 
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
+#include "input/vertex_merger.hpp"
 
 namespace froth {
 
@@ -31,7 +30,7 @@ TriangleSurface read_polygon_file(const std::filesystem::path& path) {
     fail(ErrorKind::InvalidInput, fmt::format("{}: not a readable {} surface (or no faces in it)", path.string(),
                                               path.extension().string()));
   TriangleSurface s;
-  std::unordered_map<std::string, int32_t> merged;  // bit pattern of the coordinates -> id
+  VertexMerger merge(s);
   std::vector<int32_t> id(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     const Vec3 p{points[i].x(), points[i].y(), points[i].z()};
@@ -39,11 +38,7 @@ TriangleSurface read_polygon_file(const std::filesystem::path& path) {
       fail(ErrorKind::InvalidInput,
            fmt::format("{}: vertex {} has a coordinate that is not a finite number ({}, {}, {})", path.string(), i,
                        p.x, p.y, p.z));
-    std::string key(sizeof(double) * 3, '\0');
-    std::memcpy(key.data(), &p, sizeof(double) * 3);
-    auto [it, fresh] = merged.try_emplace(key, int32_t(s.vertices.size()));
-    if (fresh) s.vertices.push_back(p);
-    id[i] = it->second;
+    id[i] = merge.add(p);
   }
   for (size_t f = 0; f < polygons.size(); ++f) {
     const auto& poly = polygons[f];

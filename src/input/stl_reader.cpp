@@ -11,43 +11,10 @@
 
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
+#include "input/vertex_merger.hpp"
 
 namespace froth {
 namespace {
-
-struct BitKey {
-  uint64_t a, b, c;
-  bool operator==(const BitKey&) const = default;
-};
-struct BitKeyHash {
-  size_t operator()(const BitKey& k) const {
-    uint64_t h = k.a * 0x9E3779B97F4A7C15ull;
-    h ^= (k.b + 0x632BE59BD9B4E019ull + (h << 6) + (h >> 2));
-    h ^= (k.c + 0x85EBCA77C2B2AE63ull + (h << 6) + (h >> 2));
-    return h;
-  }
-};
-
-class VertexMerger {
- public:
-  explicit VertexMerger(TriangleSurface& s) : s_(s) {}
-  int32_t add(Vec3 p) {
-    BitKey k{bits(p.x), bits(p.y), bits(p.z)};
-    auto [it, inserted] = ids_.try_emplace(k, static_cast<int32_t>(s_.vertices.size()));
-    if (inserted) s_.vertices.push_back(p);
-    return it->second;
-  }
-
- private:
-  static uint64_t bits(double v) {
-    if (v == 0) v = 0;  // -0 and +0 are one coordinate
-    uint64_t u;
-    std::memcpy(&u, &v, sizeof u);
-    return u;
-  }
-  TriangleSurface& s_;
-  std::unordered_map<BitKey, int32_t, BitKeyHash> ids_;
-};
 
 void check_finite(const std::string& file, size_t tri, Vec3 p) {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))

@@ -16,7 +16,6 @@
 
 #include "froth/error.hpp"
 #include "froth/io.hpp"
-#include "froth/validate.hpp"
 
 namespace froth {
 namespace {
