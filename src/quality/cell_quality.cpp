@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/face_plane.hpp"
 #include "froth/quality.hpp"
 #include "quality/inscribed_ball.hpp"
 
@@ -54,21 +55,16 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   w.edges.clear();
   for (int64_t f = f0; f < f1; ++f) {
     const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-    // Newell's normal and the centroid: the best-fit plane of a (possibly welded) face.
-    Vec3 n{}, centroid{};
     for (int64_t k = b; k < e; ++k) {
-      const Vec3 u = m.points[m.face_vertices[k]] - o, v = m.points[m.face_vertices[k + 1 < e ? k + 1 : b]] - o;
-      n = n + cross(u, v);
-      centroid = centroid + u;
       w.ids.push_back(m.face_vertices[k]);
       const int32_t a = m.face_vertices[k], bb = m.face_vertices[k + 1 < e ? k + 1 : b];
       w.edges.push_back({std::min(a, bb), std::max(a, bb), uint32_t(f - f0)});
     }
-    centroid = (1.0 / double(e - b)) * centroid;
-    const double len = norm(n);
-    n = len > 0 ? (1 / len) * n : n;
-    w.normals.push_back(n);
-    w.offsets.push_back(dot(n, centroid));
+    // The best-fit plane of a (possibly welded) face, relative to the seed.
+    const FacePlane plane =
+        best_fit_plane(size_t(e - b), [&](size_t k) { return m.points[m.face_vertices[b + int64_t(k)]] - o; });
+    w.normals.push_back(plane.normal);
+    w.offsets.push_back(dot(plane.normal, plane.centroid));
     w.border.push_back(is_border_generator(m.face_generator[f]));
   }
   std::sort(w.ids.begin(), w.ids.end());

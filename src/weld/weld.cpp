@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "common/face_plane.hpp"
 #include "common/union_find.hpp"
 
 namespace froth {
@@ -208,22 +209,9 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   face_vertex_begin[chunk_faces[cell_chunks]] = chunk_entries[cell_chunks];
   st.shortest_edge_after = std::isfinite(shortest_after2) ? std::sqrt(shortest_after2) : 0;
 
-  // Non-planarity of the faces that had a merged vertex: distance of each vertex from the
-  // best-fit plane (Newell normal through the centroid).
-  for (int64_t f : member_faces) {
-    mapped(f, cyc);
-    if (cyc.size() <= 3) continue;
-    Vec3 n{}, centroid{};
-    for (size_t k = 0; k < cyc.size(); ++k) {
-      n = n + cross(points[cyc[k]], points[cyc[(k + 1) % cyc.size()]]);
-      centroid = centroid + points[cyc[k]];
-    }
-    if (norm(n) == 0) continue;
-    n = (1 / norm(n)) * n;
-    centroid = (1.0 / double(cyc.size())) * centroid;
-    for (int32_t v : cyc) st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(n, points[v] - centroid)) / r);
-  }
-  // Only edges at merged vertices changed length: the next pass needs look nowhere else.
+  // Of the faces that had a merged vertex: the non-planarity (distance of each vertex from the
+  // best-fit plane), and the edges still shorter than w, which are the only places the next
+  // pass needs to look.
   for (int64_t f : member_faces) {
     mapped(f, cyc);
     if (cyc.size() < 3) continue;
@@ -231,6 +219,11 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       const int32_t u = cyc[k], v = cyc[(k + 1) % cyc.size()];
       if (u < v && norm2(points[u] - points[v]) < w * w) edges.push_back({u, v});
     }
+    if (cyc.size() == 3) continue;
+    const FacePlane plane = best_fit_plane(cyc.size(), [&](size_t k) { return points[cyc[k]]; });
+    if (norm2(plane.normal) == 0) continue;
+    for (int32_t v : cyc)
+      st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(plane.normal, points[v] - plane.centroid)) / r);
   }
 
   m.points = std::move(points);
