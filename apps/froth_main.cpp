@@ -29,6 +29,7 @@ struct MeshArgs {
   std::string report;
   bool no_quality = false;
   double feature_angle = froth::kDefaultFeatureAngle;
+  bool repair = false;
 };
 
 std::string default_output(const std::string& input) {
@@ -89,7 +90,7 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
 }
 
 int run_mesh(const MeshArgs& a) {
-  froth::ConvexDomain domain = froth::load_domain(a.input, a.feature_angle);
+  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
@@ -144,6 +145,7 @@ struct EnsembleArgs {
   int threads = 0;
   bool no_quality = false;
   double feature_angle = froth::kDefaultFeatureAngle;
+  bool repair = false;
 };
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
@@ -166,7 +168,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   froth::EnsembleProgress done;
   int code = 0;
   try {
-    froth::ConvexDomain domain = froth::load_domain(a.input, a.feature_angle);
+    froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
     done = froth::build_members(domain, opt);
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
@@ -243,7 +245,7 @@ int froth_main(int argc, char** argv, const World& world) {
   app.require_subcommand(1);
   MeshArgs a;
   CLI::App* mesh = app.add_subcommand("mesh", "mesh a convex domain with clipped Voronoi cells");
-  mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed convex STL surface")->required();
+  mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
   mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
       ->required();
   mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
@@ -257,9 +259,10 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
   mesh->add_option("--feature-angle", a.feature_angle,
                    "input edges turning by more than this many degrees are features (default 30)");
+  mesh->add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
   EnsembleArgs ea;
   CLI::App* ensemble = app.add_subcommand("ensemble", "make N independent meshes of one domain (resumable)");
-  ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed convex STL surface")->required();
+  ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
   ensemble->add_option("-r,--radius", ea.r, "sampling radius r")->required();
   ensemble->add_option("-n,--members", ea.members, "number of members")->required()->check(CLI::Range(1, 1000000));
   ensemble->add_option("--seed", ea.seed, "ensemble seed S; member k has seed froth::member_seed(S, k)")
@@ -269,6 +272,7 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
   ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
   ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
+  ensemble->add_flag("--repair", ea.repair, "reorient inconsistently wound shells (reported)");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
   quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();

@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     else sizes.push_back(std::atof(a.c_str()));
   }
   if (sizes.empty()) sizes = {1e4, 1e5, 1e6};
-  froth::ConvexDomain cube = froth::make_box_domain({0, 0, 0}, {1, 1, 1});
+  froth::Domain cube = froth::make_box_domain({0, 0, 0}, {1, 1, 1});
 
   struct Later {
     size_t cells;

@@ -1,9 +1,12 @@
-// The domain to mesh. This foundation handles convex domains: the intersection of the inner
-// half-spaces of the boundary's distinct facet planes.
+// The domain to mesh: a box, or the solid a closed triangle surface encloses (several shells,
+// cavities found by nesting). A convex domain is the intersection of the inner half-spaces of its
+// facet planes, and its cells are cut by those planes alone; any other domain is clipped against
+// its surface (src/clip).
 #pragma once
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,31 +38,42 @@ struct FeatureSummary {
 // both sides (the shared models' README counts sharp edges at the same 30).
 inline constexpr double kDefaultFeatureAngle = 30;
 
-struct ConvexDomain {
+class SurfaceLocator;
+
+struct Domain {
   std::string description;      // "box:..." or the file name
   FeatureSummary features;
-  std::vector<Plane> planes;    // distinct facet planes, outward normals
+  bool convex = true;           // one convex shell
+  std::vector<Plane> planes;    // facet planes (edge-connected coplanar triangles share one), outward
+  TriangleSurface surface;      // oriented out of the solid: a cavity's shell faces into the cavity
+  std::vector<int32_t> triangle_plane;  // each triangle's facet plane
+  size_t shells = 1, cavities = 0;
+  size_t reoriented_triangles = 0;      // flipped by --repair
   Box bounds;
   double volume = 0;
   double surface_area = 0;
+  std::shared_ptr<const SurfaceLocator> locator;  // inside tests and nearby triangles
 
-  bool contains(Vec3 p) const {
-    for (const Plane& pl : planes)
-      if (pl.signed_distance(p) > 0) return false;
-    return true;
-  }
+  bool contains(Vec3 p) const;
 };
 
-ConvexDomain make_box_domain(Vec3 lo, Vec3 hi);
+struct DomainOptions {
+  double feature_angle = kDefaultFeatureAngle;  // degrees
+  bool repair = false;  // reorient shells whose triangles are inconsistently wound
+};
+
+Domain make_box_domain(Vec3 lo, Vec3 hi);
 
 // Parses "box:X0,Y0,Z0,X1,Y1,Z1". Throws Error(Usage) when malformed.
-ConvexDomain parse_box_spec(const std::string& spec);
+Domain parse_box_spec(const std::string& spec);
 
-// Validates that the surface is closed, consistently oriented and convex (exact predicates),
-// then returns its distinct facet planes. `name` is used in error messages.
-ConvexDomain convex_domain_from_surface(const TriangleSurface& surface, const std::string& name);
+// Validates the surface (finite, no degenerate triangle, closed, edge-manifold, consistently
+// oriented, no self-intersection; exact predicates), finds its shells and their nesting, orients
+// them, groups facet planes and decides whether the solid is convex. Throws Error(InvalidInput)
+// naming the first defect and where it is. `name` is used in error messages.
+Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, bool repair = false);
 
-// A box spec or a surface file, whichever `input` names; features at `feature_angle` degrees.
-ConvexDomain load_domain(const std::string& input, double feature_angle = kDefaultFeatureAngle);
+// A box spec or a surface file, whichever `input` names.
+Domain load_domain(const std::string& input, const DomainOptions& options = {});
 
 }  // namespace froth

@@ -37,7 +37,7 @@ struct EnsembleProgress {
 };
 
 // Builds this rank's members that are not already complete and valid in opt.dir.
-EnsembleProgress build_members(const ConvexDomain& domain, const EnsembleOptions& opt);
+EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt);
 
 // Writes DIR/ensemble.pvd and DIR/ensemble.json from the members' sidecars (all must exist).
 void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress);

@@ -139,6 +139,6 @@ struct RunReport {
 size_t peak_rss_bytes();
 
 // The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
-PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& options, RunReport* report);
+PolyMesh generate_mesh(const Domain& domain, const MeshOptions& options, RunReport* report);
 
 }  // namespace froth

@@ -13,7 +13,7 @@ struct WeldStats {
   double tolerance = 0;
   uint64_t edges_collapsed = 0;   // vertices merged away
   uint64_t faces_removed = 0;     // faces that collapsed to an edge or a point
-  uint64_t clusters_refused = 0;  // merges refused because they would pinch a face
+  uint64_t clusters_refused = 0;  // merges refused: they would pinch a face or move a vertex off a border plane
   double shortest_edge_before = 0, shortest_edge_after = 0;
   double max_displacement = 0;    // largest distance a vertex moved
   double max_nonplanarity = 0;    // largest distance of a face's vertex from the face's best-fit plane, / r

@@ -86,7 +86,7 @@ uint64_t member_seed(uint64_t seed, size_t k) {
 
 std::string member_file(size_t k) { return fmt::format("member_{:05d}.vtu", k); }
 
-EnsembleProgress build_members(const ConvexDomain& domain, const EnsembleOptions& opt) {
+EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {
   std::filesystem::create_directories(opt.dir);
   // A killed run can leave a member's temporary file (member_00002.vtu.tmp1234) behind: it was
   // never renamed into place, so it is not a member; remove such leftovers of this rank's members.

@@ -53,7 +53,7 @@ class Stopwatch {
 
 }  // namespace
 
-PolyMesh generate_mesh(const ConvexDomain& domain, const MeshOptions& opt, RunReport* report) {
+PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* report) {
   if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
   if (!(opt.weld >= 0) || !(opt.weld < opt.r))
     fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {}", opt.weld));

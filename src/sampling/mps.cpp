@@ -20,6 +20,7 @@
 
 #include "common/random.hpp"
 #include "common/seed_buckets.hpp"
+#include "common/surface_locator.hpp"
 #include "common/tolerances.hpp"
 
 namespace froth {
@@ -77,7 +78,7 @@ int poisson(double u) {
 
 class Sampler {
  public:
-  Sampler(const ConvexDomain& domain, double r, uint64_t seed)
+  Sampler(const Domain& domain, double r, uint64_t seed)
       : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
@@ -213,17 +214,55 @@ class Sampler {
     return inside ? 1 : 0;
   }
 
-  // The planes cutting base cube b (which must be a boundary cube).
+  size_t boundary_slot(uint32_t b) const {
+    return size_t(std::lower_bound(boundary_base_.begin(), boundary_base_.end(), b) - boundary_base_.begin());
+  }
+
+  // What cuts base cube b (which must be a boundary cube): facet planes of a convex domain,
+  // triangles of any other.
   std::span<const int32_t> cutting_planes(uint32_t b) const {
-    auto it = std::lower_bound(boundary_base_.begin(), boundary_base_.end(), b);
-    size_t k = size_t(it - boundary_base_.begin());
+    const size_t k = boundary_slot(b);
     return {boundary_planes_.data() + boundary_begin_[k], boundary_begin_[k + 1] - boundary_begin_[k]};
   }
 
   bool inside_domain(Vec3 p, uint32_t base) const {
+    if (!domain_.convex) {
+      // Parity of crossings from the cube's reference point; only the cube's triangles can
+      // cross the segment, which stays in the cube.
+      const size_t k = boundary_slot(base);
+      bool in;
+      if (domain_.locator->side_from(boundary_ref_[k].p, boundary_ref_[k].inside, p, cutting_planes(base), in))
+        return in;
+      return domain_.locator->inside(p);  // a degenerate crossing: ask the whole surface
+    }
     for (int32_t id : cutting_planes(base))
       if (domain_.planes[id].signed_distance(p) > 0) return false;
     return true;
+  }
+
+  // classify_box for a sub-cube of boundary base cube `base`.
+  int classify_sub_box(Vec3 lo, double h, uint32_t base) const {
+    if (domain_.convex) return classify_box(lo, h, cutting_planes(base));
+    const Vec3 hi = lo + Vec3{h, h, h};
+    for (int32_t t : cutting_planes(base))
+      if (domain_.locator->triangle_meets_box(t, lo, hi)) return 0;
+    return inside_domain(lo + Vec3{h / 2, h / 2, h / 2}, base) ? 1 : -1;
+  }
+
+  // Non-convex domains: -1, 0 or 1 as classify_box, by the triangles that meet the box (`cut`
+  // receives them): none means the box is on one side of the surface, found at its centre.
+  int classify_box_by_surface(Vec3 lo, double h, std::vector<int32_t>& near, std::vector<int32_t>* cut) const {
+    const Vec3 hi = lo + Vec3{h, h, h};
+    domain_.locator->triangles_near(lo, hi, near);
+    bool any = false;
+    for (int32_t t : near)
+      if (domain_.locator->triangle_meets_box(t, lo, hi)) {
+        any = true;
+        if (!cut) break;
+        cut->push_back(t);
+      }
+    if (any) return 0;
+    return domain_.locator->inside(lo + Vec3{h / 2, h / 2, h / 2}) ? 1 : -1;
   }
 
   // Base cubes not outside the domain, and for those cut by the boundary the planes that cut
@@ -238,19 +277,24 @@ class Sampler {
     std::vector<std::vector<std::pair<uint32_t, int32_t>>> cuts(blocks);
     std::vector<int32_t> all(domain_.planes.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = int32_t(i);
+    const bool convex = domain_.convex;
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t blk = 0; blk < blocks; ++blk) {
       const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = int(blk / (size_t(bx) * by)) * B;
-      std::vector<int32_t> block_cut, cube_cut;
+      std::vector<int32_t> block_cut, cube_cut, near;
       // The block as a cube of side B * side (it may stick out of the grid: harmless).
-      int cls = classify_box(g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side}, B * g.side, all, &block_cut);
+      const Vec3 block_lo = g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side};
+      int cls = convex ? classify_box(block_lo, B * g.side, all, &block_cut)
+                       : classify_box_by_surface(block_lo, B * g.side, near, nullptr);
       if (cls < 0) continue;
       for (int k = k0; k < std::min(k0 + B, g.nz); ++k)
         for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
           for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
             const uint32_t b = uint32_t(g.index(i, j, k));
             cube_cut.clear();
-            int c = cls > 0 ? 1 : classify_box(base_origin(b), g.side, block_cut, &cube_cut);
+            int c = cls > 0 ? 1
+                    : convex ? classify_box(base_origin(b), g.side, block_cut, &cube_cut)
+                             : classify_box_by_surface(base_origin(b), g.side, near, &cube_cut);
             if (c < 0) continue;
             cubes[blk].push_back({b, 0, 0, c > 0 ? ActiveCube::kInside : 0});
             for (int32_t id : cube_cut) cuts[blk].push_back({b, id});
@@ -267,6 +311,22 @@ class Sampler {
       boundary_planes_.push_back(pairs[k].second);
     }
     boundary_begin_.push_back(uint32_t(pairs.size()));
+    if (!convex) {
+      // Each boundary cube's reference point for inside tests: its centre, or a point nudged
+      // off the surface if the centre lies on it.
+      boundary_ref_.resize(boundary_base_.size());
+#pragma omp parallel for schedule(dynamic, 64)
+      for (size_t k = 0; k < boundary_base_.size(); ++k) {
+        const double h = g.side;
+        Vec3 p = base_origin(boundary_base_[k]) + Vec3{h / 2, h / 2, h / 2};
+        int side = domain_.locator->side(p);
+        for (int n = 1; side == 0; ++n) {
+          p = base_origin(boundary_base_[k]) + Vec3{h * 0.5 + h * 0.037 * n, h * 0.5 - h * 0.029 * n, h * 0.5 + h * 0.011 * n};
+          side = domain_.locator->side(p);
+        }
+        boundary_ref_[k] = {p, side > 0};
+      }
+    }
     return concatenate(cubes);
   }
 
@@ -433,7 +493,7 @@ class Sampler {
           if (covered(clo, h, near, ff, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
-            int cls = classify_box(clo, h, cutting_planes(c.base));
+            int cls = classify_sub_box(clo, h, c.base);
             if (cls < 0) continue;
             inside = cls > 0 ? ActiveCube::kInside : 0;
           }
@@ -455,11 +515,13 @@ class Sampler {
     s_.seeds = std::move(ordered);
   }
 
-  const ConvexDomain& domain_;
+  const Domain& domain_;
   SeedBuckets buckets_;  // the seeds again, in cubes of side r, for neighbour queries
   // Boundary base cubes (sorted) and, for each, the domain planes that cut it.
   std::vector<uint32_t> boundary_base_, boundary_begin_;
   std::vector<int32_t> boundary_planes_;
+  struct Reference { Vec3 p; bool inside; };
+  std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
   double r_, r2_;
   CounterRng rng_;
   Sample s_;
@@ -467,7 +529,7 @@ class Sampler {
 
 }  // namespace
 
-Sample sample_maximal_poisson_disk(const ConvexDomain& domain, double r, uint64_t seed) {
+Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed) {
   return Sampler(domain, r, seed).run();
 }
 

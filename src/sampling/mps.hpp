@@ -18,6 +18,6 @@ struct Sample {
 };
 
 // A maximal r-disk sample of the domain, a pure function of (domain, r, seed).
-Sample sample_maximal_poisson_disk(const ConvexDomain& domain, double r, uint64_t seed);
+Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed);
 
 }  // namespace froth

@@ -16,9 +16,11 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 #include <fmt/format.h>
 
+#include "clip/clip_cell.hpp"
 #include "common/page_allocator.hpp"
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"
@@ -103,16 +105,21 @@ struct Neighbour {
 
 class CellBuilder {
  public:
-  CellBuilder(const ConvexDomain& domain, const Sample& sample, double r)
-      : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {}
+  CellBuilder(const Domain& domain, const Sample& sample, double r)
+      : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {
+    if (!domain.convex) generators_.emplace(domain);
+  }
 
-  // Builds cell i into `cell`; returns an empty string or what went wrong.
-  std::string build(int32_t i, ConvexCell& cell, std::vector<Neighbour>& nb,
+  // Builds cell i into `cell`, or, when it meets a non-convex domain's surface, into `clipped`
+  // (then `is_clipped` is set); returns an empty string or what went wrong.
+  std::string build(int32_t i, ConvexCell& cell, ClippedCell& clipped, bool& is_clipped, std::vector<Neighbour>& nb,
                     std::vector<ConvexCell::Names>& names) const {
     const Vec3 x = sample_.seeds[i];
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
     cell.reset_cube(half);
-    for (size_t p = 0; p < domain_.planes.size(); ++p) {
+    is_clipped = false;
+    // A convex domain cuts the cell by its facet planes; any other clips it afterwards.
+    for (size_t p = 0; p < (domain_.convex ? domain_.planes.size() : 0); ++p) {
       const Plane& pl = domain_.planes[p];
       double gap = pl.offset - dot(pl.normal, x);
       if (gap >= half * std::sqrt(3.0)) continue;
@@ -140,6 +147,16 @@ class CellBuilder {
       if (!usable(c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
       if (c == ConvexCell::Clip::Cut) rmax2 = cell.max_radius2();
     }
+    if (!domain_.convex) {
+      std::string error;
+      CellClipper clipper(domain_, *generators_);
+      if (clipper.clip(i, x, cell, half, sample_.seeds, clipped, error) == CellClipper::Result::Clipped) {
+        if (!error.empty()) return error;
+        if (clipped.vertex_count() > 255) return fmt::format("cell {} has {} vertices", i, clipped.vertex_count());
+        is_clipped = true;
+        return {};
+      }
+    }
     for (size_t f = 0; f < cell.face_count(); ++f)
       if (ConvexCell::is_cube_generator(cell.face_generator(f)))
         return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
@@ -152,13 +169,14 @@ class CellBuilder {
 
  private:
   static bool usable(ConvexCell::Clip c) { return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged; }
-  const ConvexDomain& domain_;
+  const Domain& domain_;
   const Sample& sample_;
   double r_, eps_;
+  std::optional<SurfaceGenerators> generators_;
 };
 
-void append_cell(CellChunk& ch, int32_t i, Vec3 x, const ConvexCell& cell,
-                 const std::vector<ConvexCell::Names>& names) {
+template <class Cell>
+void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::vector<ConvexCell::Names>& names) {
   int32_t key[ConvexCell::kMaxGenerators + 1];
   bool fringe = false;
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
@@ -202,7 +220,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double r, TessellationTimes* times) {
+PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times) {
   auto t0 = std::chrono::steady_clock::now();
   const size_t n = sample.seeds.size();
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
@@ -215,6 +233,8 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double 
 #pragma omp parallel
   {
     ConvexCell cell;
+    ClippedCell clipped;
+    bool is_clipped = false;
     std::vector<Neighbour> nb;
     std::vector<ConvexCell::Names> names;
 #pragma omp for schedule(dynamic, 1)
@@ -222,13 +242,14 @@ PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double 
       CellChunk& ch = chunks[c];
       ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
       for (size_t i = c * kCellsPerChunk; i < std::min(n, (c + 1) * kCellsPerChunk); ++i) {
-        std::string err = builder.build(int32_t(i), cell, nb, names);
+        std::string err = builder.build(int32_t(i), cell, clipped, is_clipped, nb, names);
         if (!err.empty()) {
           std::lock_guard lock(error_mutex);
           if (i < first_bad) first_bad = i, first_error = err;
           break;
         }
-        append_cell(ch, int32_t(i), sample.seeds[i], cell, names);
+        if (is_clipped) append_cell(ch, int32_t(i), sample.seeds[i], clipped, clipped.names());
+        else append_cell(ch, int32_t(i), sample.seeds[i], cell, names);
       }
     }
   }

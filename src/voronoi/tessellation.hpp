@@ -15,6 +15,6 @@ struct TessellationTimes {
 // Throws Error(Internal) if a cell cannot be closed by its neighbours (the sample is not maximal)
 // or two cells disagree on a shared vertex.
 // Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
-PolyMesh build_voronoi_mesh(const ConvexDomain& domain, Sample&& sample, double r, TessellationTimes* times);
+PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times);
 
 }  // namespace froth

@@ -84,8 +84,24 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     before_change(cells);
   }
 
+  // Border planes of every vertex on a short edge.
+  std::map<int32_t, std::vector<int32_t>> planes;
+  for (auto [u, v] : short_edges) planes[u], planes[v];
+  for (int64_t f : member_faces) {
+    if (!is_border_generator(m.face_generator[f])) continue;
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
+      auto it = planes.find(m.face_vertices[k]);
+      if (it == planes.end()) continue;
+      auto& p = it->second;
+      if (std::find(p.begin(), p.end(), m.face_generator[f]) == p.end()) p.push_back(m.face_generator[f]);
+    }
+  }
+  for (auto& [v, p] : planes) std::sort(p.begin(), p.end());
+
   // Merge, then refuse every cluster that would make a face touch itself (a vertex twice, not
-  // in a row), and merge again without it, until no face is pinched.
+  // in a row) or move a vertex off a border plane it lies on (a cluster needs one vertex on every
+  // plane its members are on: it keeps its place, so the domain's features stay where they
+  // are), and merge again without them, until no cluster is refused.
   UnionFind uf(m.points.size());
   std::vector<int32_t> cyc, sorted;
   for (;;) {
@@ -106,25 +122,26 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
           pinched = true;
         }
     }
+    std::map<int32_t, const std::vector<int32_t>*> widest;  // per cluster root
+    for (const auto& [v, p] : planes) {
+      if (refused[v]) continue;
+      auto& w = widest[uf.find(v)];
+      if (!w || p.size() > w->size()) w = &p;
+    }
+    for (const auto& [v, p] : planes)
+      if (!refused[v] && !std::includes(widest[uf.find(v)]->begin(), widest[uf.find(v)]->end(), p.begin(), p.end())) {
+        refused[v] = 1;
+        pinched = true;
+      }
     if (!pinched) break;
-    for (auto [u, v] : short_edges)  // refuse the rest of those clusters too
-      if (refused[u] || refused[v]) refused[u] = refused[v] = 1;
+    for (bool spread = true; spread;) {  // refuse the rest of those clusters too
+      spread = false;
+      for (auto [u, v] : short_edges)
+        if (refused[u] != refused[v]) refused[u] = refused[v] = 1, spread = true;
+    }
   }
   for (size_t v = 0; v < refused.size(); ++v) st.clusters_refused += refused[v] && uf.find(int32_t(v)) == int32_t(v);
 
-  // Border planes of the vertices in clusters: the one on the most planes keeps its place.
-  std::map<int32_t, std::vector<int32_t>> planes;
-  for (auto [u, v] : short_edges)
-    if (uf.find(u) == uf.find(v)) planes[u], planes[v];
-  for (int64_t f : member_faces) {
-    if (!is_border_generator(m.face_generator[f])) continue;
-    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
-      auto it = planes.find(m.face_vertices[k]);
-      if (it == planes.end()) continue;
-      auto& p = it->second;
-      if (std::find(p.begin(), p.end(), m.face_generator[f]) == p.end()) p.push_back(m.face_generator[f]);
-    }
-  }
   struct Cluster {
     Vec3 sum{};
     int count = 0;
@@ -133,6 +150,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   };
   std::map<int32_t, Cluster> clusters;
   for (const auto& [v, p] : planes) {
+    if (refused[v]) continue;
     Cluster& c = clusters[uf.find(v)];
     c.sum = c.sum + m.points[v];
     ++c.count;

@@ -67,7 +67,7 @@ std::vector<double> dihedral_angles(const PolyMesh& m, size_t c) {
   return out;
 }
 
-PolyMesh mesh_of(const ConvexDomain& d, double r, uint64_t seed, int threads, RunReport* run) {
+PolyMesh mesh_of(const Domain& d, double r, uint64_t seed, int threads, RunReport* run) {
   MeshOptions o;
   o.r = r;
   o.seed = seed;

@@ -20,6 +20,6 @@ Vec3 face_centroid(const PolyMesh& m, int64_t f);
 std::vector<double> dihedral_angles(const PolyMesh& m, size_t c);
 
 // Runs the whole pipeline with `threads` threads.
-PolyMesh mesh_of(const ConvexDomain& d, double r, uint64_t seed, int threads, RunReport* run = nullptr);
+PolyMesh mesh_of(const Domain& d, double r, uint64_t seed, int threads, RunReport* run = nullptr);
 
 }  // namespace froth::test

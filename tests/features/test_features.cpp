@@ -58,15 +58,15 @@ TEST(Features, TorusAtASmallAngleHasReflexEdges) {
 }
 
 TEST(Features, DomainsCarryTheirFeatureCounts) {
-  const ConvexDomain box = load_domain("box:0,0,0,2,1,1");
+  const Domain box = load_domain("box:0,0,0,2,1,1");
   EXPECT_EQ(box.features.convex_edges, 12u);
   EXPECT_EQ(box.features.corners, 8u);
   EXPECT_EQ(box.features.curves, 12u);
-  const ConvexDomain sphere = load_domain(test::model("unit_sphere.STL"), 2);
+  const Domain sphere = load_domain(test::model("unit_sphere.STL"), {.feature_angle = 2});
   EXPECT_EQ(sphere.features.angle_degrees, 2);
   EXPECT_EQ(sphere.features.convex_edges, 1920u);
-  EXPECT_THROW(load_domain("box:0,0,0,1,1,1", 0), Error);
-  EXPECT_THROW(load_domain("box:0,0,0,1,1,1", 180), Error);
+  EXPECT_THROW(load_domain("box:0,0,0,1,1,1", {.feature_angle = 0}), Error);
+  EXPECT_THROW(load_domain("box:0,0,0,1,1,1", {.feature_angle = 180}), Error);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -30,7 +31,7 @@ std::string error_text_of(const std::function<void()>& f) {
 }
 
 TEST(Input, UnitCubeBinaryStlHasSixPlanesAndUnitVolume) {
-  ConvexDomain d = load_domain(test::model("unit_cube.STL"));
+  Domain d = load_domain(test::model("unit_cube.STL"));
   EXPECT_EQ(d.planes.size(), 6u);
   EXPECT_NEAR(d.volume, 1.0, 1e-12);
   EXPECT_NEAR(d.surface_area, 6.0, 1e-12);
@@ -41,18 +42,75 @@ TEST(Input, IcosphereHasOnePlanePerTriangle) {
   TriangleSurface s = read_stl(test::model("unit_sphere.STL"));
   EXPECT_EQ(s.vertices.size(), 642u);
   EXPECT_EQ(s.triangles.size(), 1280u);
-  ConvexDomain d = convex_domain_from_surface(s, "sphere");
+  Domain d = domain_from_surface(s, "sphere");
   EXPECT_EQ(d.planes.size(), 1280u);
   EXPECT_GT(d.volume, 4.0);
   EXPECT_LT(d.volume, 4.0 / 3.0 * M_PI);
 }
 
-TEST(Input, AsciiStlWithTwoSolidsIsReadButRejectedAsTwoComponents) {
+TEST(Input, AsciiStlWithTwoSolidsGivesTwoShells) {
   TriangleSurface s = read_stl(test::model("two_objects_mixed_case_names.stl"));
   EXPECT_EQ(s.triangles.size(), 24u);
   EXPECT_EQ(s.vertices.size(), 16u);
-  EXPECT_NE(error_text_of([&] { convex_domain_from_surface(s, "two"); }).find("more than one component"),
-            std::string::npos);
+  Domain d = domain_from_surface(s, "two");
+  EXPECT_EQ(d.shells, 2u);
+  EXPECT_EQ(d.cavities, 0u);
+  EXPECT_FALSE(d.convex);
+  EXPECT_NEAR(d.volume, 2.0, 1e-12);
+  EXPECT_TRUE(d.contains({0.5, 0.5, 0.5}));
+  EXPECT_TRUE(d.contains({5.5, 0.5, 0.5}));
+  EXPECT_FALSE(d.contains({3, 0.5, 0.5}));
+}
+
+// Both shells of hollow_sphere.off face outward in the file; the inner one bounds a cavity
+// because it is nested, and is turned to face into it.
+TEST(Input, CavityComesFromNestingNotFromTheFile) {
+  Domain d = load_domain(test::model("hollow_sphere.off"));
+  EXPECT_EQ(d.shells, 2u);
+  EXPECT_EQ(d.cavities, 1u);
+  EXPECT_NEAR(d.volume, 0.506 - 0.259, 0.01);
+  EXPECT_TRUE(d.contains({0.45, 0, 0}));
+  EXPECT_FALSE(d.contains({0, 0, 0}));
+  EXPECT_FALSE(d.contains({0.6, 0, 0}));
+}
+
+TEST(Input, ReflexEdgesMakeANonConvexDomain) {
+  Domain d = load_domain(test::model("7_8ths_cube.stl"));
+  EXPECT_FALSE(d.convex);
+  EXPECT_NEAR(d.volume, 7.0 / 8 * 40 * 40 * 40, 1e-6 * d.volume);
+  EXPECT_EQ(d.features.reflex_edges, 3u);
+  EXPECT_TRUE(d.contains({-10, -10, -10}));
+  EXPECT_FALSE(d.contains({10, 10, 10}));
+  EXPECT_TRUE(load_domain(test::model("unit_sphere.STL")).convex);
+}
+
+TEST(Input, SelfIntersectionIsNamed) {
+  // Two tetrahedra that pierce each other.
+  TriangleSurface s;
+  s.vertices = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}, {0.5, 0.5, 0.5}, {3, 0.5, 0.5}, {0.5, 3, 0.5}, {0.5, 0.5, 3}};
+  for (int32_t o : {0, 4}) {
+    s.triangles.push_back({o + 0, o + 2, o + 1});
+    s.triangles.push_back({o + 0, o + 1, o + 3});
+    s.triangles.push_back({o + 0, o + 3, o + 2});
+    s.triangles.push_back({o + 1, o + 2, o + 3});
+  }
+  std::string msg = error_text_of([&] { domain_from_surface(s, "pierced"); });
+  EXPECT_NE(msg.find("intersects itself"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("triangles"), std::string::npos) << msg;
+}
+
+TEST(Input, RepairReorientsInconsistentShells) {
+  TriangleSurface s = read_stl(test::model("multibody.stl"));
+  EXPECT_NE(error_text_of([&] { domain_from_surface(s, "multibody"); }).find("--repair"), std::string::npos);
+  Domain d = domain_from_surface(s, "multibody", /*repair=*/true);
+  EXPECT_GT(d.reoriented_triangles, 0u);
+  EXPECT_EQ(d.shells, 2u);
+  EXPECT_GT(d.volume, 0);
+  // Every edge now runs both ways.
+  std::set<std::pair<int32_t, int32_t>> directed;
+  for (auto [a, b, c] : d.surface.triangles)
+    for (auto e : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) EXPECT_TRUE(directed.insert(e).second);
+  for (auto [a, b] : directed) EXPECT_TRUE(directed.count({b, a}));
 }
 
 TEST(Input, NonManifoldEdgeIsNamed) {
@@ -69,12 +127,6 @@ TEST(Input, OpenSurfaceIsNamed) {
 TEST(Input, InconsistentOrientationIsNamed) {
   std::string msg = error_text_of([] { load_domain(test::model("multibody.stl")); });
   EXPECT_NE(msg.find("inconsistent orientation"), std::string::npos) << msg;
-}
-
-TEST(Input, ReflexEdgeIsRejectedAsNonConvex) {
-  std::string msg = error_text_of([] { load_domain(test::model("7_8ths_cube.stl")); });
-  EXPECT_NE(msg.find("not convex"), std::string::npos) << msg;
-  EXPECT_EQ(error_kind_of([] { load_domain(test::model("7_8ths_cube.stl")); }), ErrorKind::InvalidInput);
 }
 
 TEST(Input, MissingFileIsAnIoError) {
@@ -96,7 +148,7 @@ TEST(Input, NonFiniteCoordinateIsNamed) {
 }
 
 TEST(Input, BoxSpecs) {
-  ConvexDomain d = parse_box_spec("box:0,0,0,1,2,3");
+  Domain d = parse_box_spec("box:0,0,0,1,2,3");
   EXPECT_DOUBLE_EQ(d.volume, 6);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,1,2"); }), ErrorKind::Usage);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,-1,2,3"); }), ErrorKind::Usage);
@@ -125,7 +177,7 @@ TEST(Input, AsciiStlOfTheIcosphereMeshesLikeTheBinaryOne) {
     }
     out << "endsolid sphere\n";
   }
-  ConvexDomain bin = load_domain(test::model("unit_sphere.STL")), asc = load_domain(path);
+  Domain bin = load_domain(test::model("unit_sphere.STL")), asc = load_domain(path);
   ASSERT_EQ(asc.planes.size(), bin.planes.size());
   EXPECT_DOUBLE_EQ(asc.volume, bin.volume);
   RunReport rb, ra;
@@ -137,8 +189,8 @@ TEST(Input, AsciiStlOfTheIcosphereMeshesLikeTheBinaryOne) {
 
 // unit_cube.STL is box:-0.5,-0.5,-0.5,0.5,0.5,0.5: the same seeds and cell volumes.
 TEST(Input, CubeStlAndBoxSpecGiveTheSameMesh) {
-  ConvexDomain stl = load_domain(test::model("unit_cube.STL"));
-  ConvexDomain box = parse_box_spec("box:-0.5,-0.5,-0.5,0.5,0.5,0.5");
+  Domain stl = load_domain(test::model("unit_cube.STL"));
+  Domain box = parse_box_spec("box:-0.5,-0.5,-0.5,0.5,0.5,0.5");
   PolyMesh a = test::mesh_of(stl, 0.15, 11, 2), b = test::mesh_of(box, 0.15, 11, 2);
   ASSERT_EQ(a.cell_count(), b.cell_count());
   for (size_t c = 0; c < a.cell_count(); ++c) {
@@ -154,7 +206,7 @@ const double kCube[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1
 const int kQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
 
 void expect_unit_cube(const std::string& path) {
-  const ConvexDomain d = load_domain(path);
+  const Domain d = load_domain(path);
   EXPECT_EQ(d.planes.size(), 6u) << path;
   EXPECT_NEAR(d.volume, 1, 1e-15) << path;
   EXPECT_NEAR(d.surface_area, 6, 1e-14) << path;
@@ -198,9 +250,9 @@ TEST(Input, CubeAsOffObjAndPly) {
 
 TEST(Input, SharedModelsInOtherFormatsGetTheirOwnMessages) {
   auto message = [](const char* model) { return error_text_of([&] { load_domain(test::model(model)); }); };
-  EXPECT_NE(message("hollow_sphere.off").find("more than one component"), std::string::npos);
   EXPECT_NE(message("joined_tetrahedra.obj").find("not manifold"), std::string::npos);
-  EXPECT_NE(message("step.off").find("not convex"), std::string::npos);
+  EXPECT_NE(message("rook.stl").find("not manifold"), std::string::npos);
+  EXPECT_FALSE(load_domain(test::model("step.off")).convex);
 }
 
 TEST(Input, BrokenOffIsInvalidInput) {

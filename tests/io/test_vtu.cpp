@@ -23,7 +23,7 @@ std::string slurp(const std::string& path) {
 }
 
 TEST(Vtu, SameSeedGivesIdenticalBytesForOneAndTwoThreads) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   std::string dir = testing::TempDir();
   RunReport ra, rb, rc;
   PolyMesh a = test::mesh_of(d, 0.1, 9, 1, &ra);
@@ -44,7 +44,7 @@ TEST(Vtu, SameSeedGivesIdenticalBytesForOneAndTwoThreads) {
 
 // Renaming a temporary file over a device or pipe would replace it (it once replaced /dev/null).
 TEST(Vtu, PipeTargetIsWrittenInPlaceAndStaysAPipe) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   RunReport run;
   PolyMesh m = test::mesh_of(d, 0.3, 1, 1, &run);
   std::string fifo = testing::TempDir() + "/froth_test_fifo";
@@ -76,7 +76,7 @@ TEST(Vtu, PipeTargetIsWrittenInPlaceAndStaysAPipe) {
 }
 
 TEST(Vtu, SymlinkTargetIsReplacedAndTheLinkKept) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   RunReport run;
   PolyMesh m = test::mesh_of(d, 0.3, 1, 1, &run);
   std::string dir = testing::TempDir(), target = dir + "/froth_link_target.vtu", link = dir + "/froth_link.vtu";
@@ -91,7 +91,7 @@ TEST(Vtu, SymlinkTargetIsReplacedAndTheLinkKept) {
 }
 
 TEST(Vtu, UnwritableDirectoryIsAnIoErrorAndLeavesNoFile) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   RunReport run;
   PolyMesh m = test::mesh_of(d, 0.2, 1, 1, &run);
   try {
@@ -103,7 +103,7 @@ TEST(Vtu, UnwritableDirectoryIsAnIoErrorAndLeavesNoFile) {
 }
 
 TEST(Report, JsonHasCountsVolumesAndStages) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   RunReport run;
   test::mesh_of(d, 0.2, 1, 1, &run);
   std::string j = report_json_text(run);

@@ -158,7 +158,7 @@ TEST(Quality, RandomConvexCellsMatchExactOracles) {
 // Whole meshes, welding off: no interior cell beyond the paper's bounds.
 TEST(Quality, MeshesRespectTheoremOneAndLemmaSix) {
   for (const char* domain : {"box:0,0,0,1,1,1", "sphere"}) {
-    ConvexDomain d = load_domain(std::string(domain) == "sphere" ? test::model("unit_sphere.STL") : domain);
+    Domain d = load_domain(std::string(domain) == "sphere" ? test::model("unit_sphere.STL") : domain);
     MeshOptions opt;
     opt.r = 0.1;
     opt.seed = 5;

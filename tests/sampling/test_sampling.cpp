@@ -15,7 +15,7 @@ namespace froth {
 namespace {
 
 TEST(Sampling, EmptyDiskAndMaximalOnABox) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1.5, 0.7});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1.5, 0.7});
   for (uint64_t seed : {1u, 2u, 3u}) {
     Sample s = sample_maximal_poisson_disk(d, 0.1, seed);
     EXPECT_EQ(s.stats.uncovered_cubes, 0u);
@@ -36,7 +36,7 @@ TEST(Sampling, EmptyDiskAndMaximalOnABox) {
 }
 
 TEST(Sampling, SameSeedSameSampleForAnyThreadCount) {
-  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  Domain d = load_domain(test::model("unit_sphere.STL"));
   omp_set_num_threads(1);
   Sample a = sample_maximal_poisson_disk(d, 0.15, 42);
   omp_set_num_threads(2);
@@ -52,7 +52,7 @@ TEST(Sampling, SameSeedSameSampleForAnyThreadCount) {
 }
 
 TEST(Sampling, SeedsLieInsideTheSphereAndFillItsBoundaryCubes) {
-  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  Domain d = load_domain(test::model("unit_sphere.STL"));
   Sample s = sample_maximal_poisson_disk(d, 0.1, 7);
   size_t near_boundary = 0;
   for (Vec3 p : s.seeds) {
@@ -70,7 +70,7 @@ TEST(Sampling, SeedsLieInsideTheSphereAndFillItsBoundaryCubes) {
 // must match it; a biased or non-maximal sampler misses it.
 TEST(Sampling, BulkPackingFractionIsTheRsaSaturationDensity) {
   const double r = 1, side = 36;
-  ConvexDomain d = make_box_domain({0, 0, 0}, {side, side, side});
+  Domain d = make_box_domain({0, 0, 0}, {side, side, side});
   const double margin = 3 * r, inner = side - 2 * margin;
   double sum = 0;
   const int runs = 3;

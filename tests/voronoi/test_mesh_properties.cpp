@@ -26,7 +26,7 @@ class MeshProperties : public testing::TestWithParam<Case> {};
 
 TEST_P(MeshProperties, PaperGuaranteesHold) {
   const Case& k = GetParam();
-  ConvexDomain d = load_domain(k.domain == "sphere" ? test::model("unit_sphere.STL") : k.domain);
+  Domain d = load_domain(k.domain == "sphere" ? test::model("unit_sphere.STL") : k.domain);
   RunReport run;
   PolyMesh m = test::mesh_of(d, k.r, k.seed, 2, &run);
   const double r = k.r;
@@ -94,7 +94,7 @@ INSTANTIATE_TEST_SUITE_P(
     });
 
 TEST(MeshDeterminism, SameSeedSameMeshForOneAndTwoThreads) {
-  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  Domain d = load_domain(test::model("unit_sphere.STL"));
   PolyMesh a = test::mesh_of(d, 0.12, 5, 1), b = test::mesh_of(d, 0.12, 5, 2);
   EXPECT_EQ(a.face_vertices, b.face_vertices);
   EXPECT_EQ(a.face_generator, b.face_generator);
@@ -103,7 +103,7 @@ TEST(MeshDeterminism, SameSeedSameMeshForOneAndTwoThreads) {
 }
 
 TEST(MeshErrors, BadParametersAreUsageErrors) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   for (double r : {0.0, -1.0, double(NAN)}) {
     try {
       test::mesh_of(d, r, 1, 1);
@@ -122,7 +122,7 @@ namespace {
 
 // The final check must catch what it promises to catch.
 TEST(MeshCheckDetects, UnmatchedFaceOpenCellAndNegativeVolume) {
-  ConvexDomain d = make_box_domain({0, 0, 0}, {1, 1, 1});
+  Domain d = make_box_domain({0, 0, 0}, {1, 1, 1});
   PolyMesh good = test::mesh_of(d, 0.2, 4, 1);
   ASSERT_TRUE(check_mesh(good).ok());
   // An interior face of cell 0 and the cell behind it.

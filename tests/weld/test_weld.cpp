@@ -15,7 +15,7 @@ namespace froth {
 namespace {
 
 PolyMesh unwelded(const std::string& domain, double r, uint64_t seed) {
-  ConvexDomain d = load_domain(domain == "sphere" ? test::model("unit_sphere.STL") : domain);
+  Domain d = load_domain(domain == "sphere" ? test::model("unit_sphere.STL") : domain);
   MeshOptions opt;
   opt.r = r;
   opt.seed = seed;
@@ -104,7 +104,7 @@ namespace {
 // verdicts swapped back: they must equal a full count on the unwelded mesh, and per-cell
 // verdicts must add up to the report's counts.
 TEST(Weld, BoundsBeforeWeldingMatchTheUnweldedMesh) {
-  ConvexDomain d = load_domain(test::model("unit_sphere.STL"));
+  Domain d = load_domain(test::model("unit_sphere.STL"));
   MeshOptions opt;
   opt.r = 0.1;
   opt.seed = 8;

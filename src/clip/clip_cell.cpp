@@ -1,0 +1,321 @@
+#include "clip/clip_cell.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "common/surface_locator.hpp"
+#include "common/union_find.hpp"
+
+namespace froth {
+
+SurfaceGenerators::SurfaceGenerators(const Domain& d) {
+  const auto& T = d.surface.triangles;
+  planes = int32_t(d.planes.size());
+  std::map<std::pair<int32_t, int32_t>, int32_t> id;
+  triangle_edges.resize(T.size());
+  for (size_t t = 0; t < T.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = T[t][k], b = T[t][(k + 1) % 3];
+      auto [it, added] = id.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(edge_vertices.size()));
+      if (added) edge_vertices.push_back({it->first.first, it->first.second});
+      triangle_edges[t][k] = it->second;
+    }
+  edges = int32_t(edge_vertices.size());
+}
+
+namespace {
+
+using Names = ConvexCell::Names;
+
+Names key_of(std::initializer_list<int32_t> gens) {
+  Names k;
+  for (int32_t g : gens) k.gen[k.n++] = g;
+  std::sort(k.gen, k.gen + k.n);
+  return k;
+}
+
+struct NamesLess {
+  bool operator()(const Names& a, const Names& b) const {
+    if (a.n != b.n) return a.n < b.n;
+    return std::lexicographical_compare(a.gen, a.gen + a.n, b.gen, b.gen + b.n);
+  }
+};
+
+// Generators of V's own faces: seeds and the bounding cube (input elements are other negatives).
+bool is_cell_generator(int32_t g) { return g >= 0 || ConvexCell::is_cube_generator(g); }
+
+struct PolyVertex {
+  Vec3 p;
+  Names key;
+  int32_t out_label;  // the generator the edge to the next vertex lies on (input edge or cell face)
+};
+
+struct Edge {
+  int32_t from, to;
+  bool operator<(const Edge& o) const { return from != o.from ? from < o.from : to < o.to; }
+};
+
+// Newell vector area of a loop.
+Vec3 loop_area(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop) {
+  Vec3 a{};
+  for (size_t k = 0; k < loop.size(); ++k) a = a + cross(pts[loop[k]], pts[loop[(k + 1) % loop.size()]]);
+  return 0.5 * a;
+}
+
+// Chains directed edges into closed loops; false if a point has two outgoing edges or a chain
+// does not close.
+bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t>>& loops) {
+  std::map<int32_t, int32_t> next;
+  for (const Edge& e : edges)
+    if (!next.emplace(e.from, e.to).second) return false;
+  std::map<int32_t, bool> used;
+  for (const Edge& e : edges) {
+    if (used[e.from]) continue;
+    std::vector<int32_t> loop;
+    int32_t p = e.from;
+    while (!used[p]) {
+      used[p] = true;
+      loop.push_back(p);
+      auto it = next.find(p);
+      if (it == next.end()) return false;
+      p = it->second;
+    }
+    if (p != e.from) return false;
+    loops.push_back(std::move(loop));
+  }
+  return true;
+}
+
+}  // namespace
+
+CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& cell, double half,
+                                      const std::vector<Vec3>& seeds, ClippedCell& out, std::string& error) {
+  const SurfaceLocator& locator = *domain_.locator;
+  const TriangleSurface& S = domain_.surface;
+  const size_t nv = cell.vertex_count(), nf = cell.face_count();
+  Vec3 lo = cell.vertex(0), hi = lo;
+  for (size_t v = 0; v < nv; ++v)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], cell.vertex(v)[a]), hi[a] = std::max(hi[a], cell.vertex(v)[a]);
+  std::vector<int32_t> tris;
+  locator.triangles_near(x + lo, x + hi, tris);
+  if (tris.empty()) return Result::Inside;
+
+  // The planes of V's faces, computed exactly as the cell builder cut them.
+  static const Vec3 cube_normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  std::vector<Plane> plane(nf);
+  std::map<int32_t, int32_t> face_of_gen;
+  for (size_t f = 0; f < nf; ++f) {
+    const int32_t g = cell.face_generator(f);
+    face_of_gen[g] = int32_t(f);
+    if (ConvexCell::is_cube_generator(g)) {
+      plane[f] = {cube_normals[g - ConvexCell::kCubeGenerator], half};
+    } else {
+      const double d = std::sqrt(norm2(seeds[g] - x));
+      plane[f] = {(1 / d) * (seeds[g] - x), d / 2};
+    }
+  }
+  auto fail_with = [&](std::string text) {
+    error = fmt::format("cell {} at ({}, {}, {}): {}", seed, x.x, x.y, x.z, text);
+    return Result::Clipped;
+  };
+
+  // Every point met, by name.
+  std::map<Names, int32_t, NamesLess> point_of;
+  std::vector<Vec3> pts;
+  std::vector<Names> keys;
+  auto intern = [&](const Names& k, Vec3 p) {
+    auto [it, added] = point_of.try_emplace(k, int32_t(pts.size()));
+    if (added) pts.push_back(p), keys.push_back(k);
+    return it->second;
+  };
+
+  // 1. Each nearby triangle clipped by V (Sutherland-Hodgman), its points named as they arise.
+  std::vector<std::vector<Edge>> on_face(nf);                    // cross-section edges per V face
+  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> crossings;  // per V edge (its generators)
+  std::map<int32_t, std::vector<Edge>> border;                   // piece edges per facet plane
+  std::vector<PolyVertex> poly, next;
+  for (int32_t t : tris) {
+    const auto& tri = S.triangles[t];
+    const int32_t facet = gens_.plane(domain_.triangle_plane[t]);
+    poly.clear();
+    for (int k = 0; k < 3; ++k)
+      poly.push_back({S.vertices[tri[k]] - x, key_of({gens_.vertex(tri[k])}), gens_.edge(gens_.triangle_edges[t][k])});
+    for (size_t f = 0; f < nf && !poly.empty(); ++f) {
+      const Plane& pl = plane[f];
+      const int32_t g = cell.face_generator(f);
+      bool any_out = false, any_in = false;
+      double s[64];
+      if (poly.size() > 64) return fail_with("a clipped triangle has more than 64 vertices");
+      for (size_t k = 0; k < poly.size(); ++k) {
+        s[k] = pl.signed_distance(poly[k].p);
+        if (s[k] == 0) return fail_with(fmt::format("input triangle {} touches a cell face exactly (degenerate)", t));
+        (s[k] > 0 ? any_out : any_in) = true;
+      }
+      if (!any_out) continue;
+      if (!any_in) { poly.clear(); break; }
+      next.clear();
+      for (size_t k = 0; k < poly.size(); ++k) {
+        const PolyVertex& a = poly[k];
+        const PolyVertex& b = poly[(k + 1) % poly.size()];
+        const double sa = s[k], sb = s[(k + 1) % poly.size()];
+        if (sa < 0) next.push_back(a);
+        if ((sa < 0) != (sb < 0)) {
+          const Vec3 p = a.p + (sa / (sa - sb)) * (b.p - a.p);
+          const int32_t line = a.out_label;
+          Names k2 = is_cell_generator(line) ? key_of({line, g, facet}) : key_of({line, g});
+          next.push_back({p, k2, sa < 0 ? g : line});
+        }
+      }
+      poly.swap(next);
+    }
+    if (poly.size() < 3) continue;
+    int32_t idx[64];
+    for (size_t k = 0; k < poly.size(); ++k) idx[k] = intern(poly[k].key, poly[k].p);
+    for (size_t k = 0; k < poly.size(); ++k) {
+      const int32_t u = idx[k], w = idx[(k + 1) % poly.size()], label = poly[k].out_label;
+      border[facet].push_back({u, w});
+      if (is_cell_generator(label)) on_face[face_of_gen.at(label)].push_back({w, u});
+      // A point on two of V's faces is where V's edge between them crosses the triangle.
+      const Names& kk = poly[k].key;
+      int32_t on[3], m = 0;
+      for (int q = 0; q < kk.n; ++q)
+        if (is_cell_generator(kk.gen[q])) on[m++] = kk.gen[q];
+      if (m == 2) crossings[{on[0], on[1]}].push_back(u);
+    }
+  }
+
+  // 2. Which of V's vertices are inside: parity from the seed to one, then along V's edges,
+  // toggling at each crossing.
+  std::vector<Names> vnames;
+  cell.vertex_names(vnames);
+  for (Names& k : vnames) std::sort(k.gen, k.gen + k.n);
+  std::map<std::pair<int32_t, int32_t>, int32_t> face_of_edge;  // directed V edge -> face
+  for (size_t f = 0; f < nf; ++f) {
+    const uint16_t* fv = cell.face_begin(f);
+    for (size_t k = 0; k < cell.face_size(f); ++k) face_of_edge[{fv[k], fv[(k + 1) % cell.face_size(f)]}] = int32_t(f);
+  }
+  auto edge_crossings = [&](int32_t u, int32_t w) -> std::vector<int32_t>* {
+    int32_t g1 = cell.face_generator(face_of_edge.at({u, w})), g2 = cell.face_generator(face_of_edge.at({w, u}));
+    auto it = crossings.find({std::min(g1, g2), std::max(g1, g2)});
+    return it == crossings.end() ? nullptr : &it->second;
+  };
+  std::vector<int8_t> status(nv, -1);
+  for (size_t v = 0; v < nv; ++v) {
+    bool in;
+    if (locator.side_from(x, true, x + cell.vertex(v), tris, in)) {
+      status[v] = in;
+      break;
+    }
+  }
+  if (std::all_of(status.begin(), status.end(), [](int8_t s) { return s < 0; }))
+    return fail_with("every ray from the seed to a cell vertex grazes the surface (degenerate)");
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const auto& [e, f] : face_of_edge) {
+      const auto [u, w] = e;
+      if (status[u] < 0 || status[w] >= 0) continue;
+      const auto* c = edge_crossings(u, w);
+      status[w] = int8_t(status[u] ^ ((c ? c->size() : 0) & 1));
+      changed = true;
+    }
+  }
+  for (const auto& [e, f] : face_of_edge) {
+    const auto* c = edge_crossings(e.first, e.second);
+    if (status[e.second] != (status[e.first] ^ int8_t((c ? c->size() : 0) & 1)))
+      return fail_with("the surface crossings along the cell's edges are inconsistent (near-degenerate input)");
+  }
+
+  // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
+  std::vector<int32_t> face_gen;
+  std::vector<std::vector<int32_t>> faces;
+  std::vector<std::vector<int32_t>> loops;
+  for (size_t f = 0; f < nf; ++f) {
+    const int32_t g = cell.face_generator(f);
+    std::vector<Edge> segs = on_face[f];
+    const uint16_t* fv = cell.face_begin(f);
+    const size_t n = cell.face_size(f);
+    for (size_t k = 0; k < n; ++k) {
+      const int32_t u = fv[k], w = fv[(k + 1) % n];
+      const Vec3 pu = cell.vertex(u), dir = cell.vertex(w) - pu;
+      std::vector<int32_t> along;
+      if (const auto* c = edge_crossings(u, w)) along = *c;
+      std::sort(along.begin(), along.end(),
+                [&](int32_t a, int32_t b) { return dot(pts[a] - pu, dir) < dot(pts[b] - pu, dir); });
+      bool in = status[u];
+      int32_t cur = in ? intern(vnames[u], pu) : -1;
+      for (int32_t q : along) {
+        if (in) segs.push_back({cur, q});
+        cur = q;
+        in = !in;
+      }
+      if (in) segs.push_back({cur, intern(vnames[w], cell.vertex(w))});
+    }
+    if (segs.empty()) continue;
+    if (ConvexCell::is_cube_generator(g))
+      return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
+    loops.clear();
+    if (!chain_loops(segs, loops)) return fail_with(fmt::format("the face on generator {} does not close", g));
+    for (auto& loop : loops) {
+      if (dot(loop_area(pts, loop), plane[f].normal) <= 0)
+        return fail_with(fmt::format("the face on generator {} has a hole: the surface passes through it "
+                                     "(r is too large for the domain's features here)", g));
+      face_gen.push_back(g);
+      faces.push_back(std::move(loop));
+    }
+  }
+
+  // 4. Border faces: the triangle pieces of each facet plane merged (shared edges cancel).
+  for (auto& [facet, edges] : border) {
+    std::sort(edges.begin(), edges.end());
+    std::vector<Edge> kept;
+    for (const Edge& e : edges)
+      if (!std::binary_search(edges.begin(), edges.end(), Edge{e.to, e.from})) kept.push_back(e);
+    if (kept.empty()) continue;
+    loops.clear();
+    if (!chain_loops(kept, loops))
+      return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
+    for (auto& loop : loops) {
+      if (dot(loop_area(pts, loop), domain_.planes[-facet - 1].normal) <= 0)
+        return fail_with(fmt::format("the border face on facet plane {} has a hole (a feature smaller than r)", -facet - 1));
+      face_gen.push_back(facet);
+      faces.push_back(std::move(loop));
+    }
+  }
+
+  // 5. The result must be one closed surface: every edge used once each way, all connected.
+  std::vector<Edge> all;
+  for (const auto& face : faces)
+    for (size_t k = 0; k < face.size(); ++k) all.push_back({face[k], face[(k + 1) % face.size()]});
+  std::sort(all.begin(), all.end());
+  for (size_t k = 0; k < all.size(); ++k)
+    if ((k > 0 && !(all[k - 1] < all[k])) || !std::binary_search(all.begin(), all.end(), Edge{all[k].to, all[k].from}))
+      return fail_with("the clipped cell is not closed");
+  UnionFind parts(pts.size());
+  for (const Edge& e : all) parts.unite(e.from, e.to);
+  std::vector<int32_t> used_map(pts.size(), -1);
+  out.points_.clear(), out.names_.clear(), out.face_gen_.assign(face_gen.begin(), face_gen.end());
+  out.face_start_.assign(1, 0), out.face_vert_.clear();
+  int32_t root = -1;
+  for (const auto& face : faces) {
+    for (int32_t p : face) {
+      if (root < 0) root = parts.find(p);
+      if (parts.find(p) != root)
+        return fail_with("the cell's part of the domain is in several pieces: r is too large for the domain's "
+                         "features here (a thin wall or a narrow gap)");
+      if (used_map[p] < 0) {
+        used_map[p] = int32_t(out.points_.size());
+        out.points_.push_back(pts[p]);
+        out.names_.push_back(keys[p]);
+      }
+      out.face_vert_.push_back(uint16_t(used_map[p]));
+    }
+    out.face_start_.push_back(uint32_t(out.face_vert_.size()));
+  }
+  if (faces.empty()) return fail_with("the cell lies outside the domain");
+  return Result::Clipped;
+}
+
+}  // namespace froth

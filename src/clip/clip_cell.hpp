@@ -1,0 +1,68 @@
+// Clips a seed's convex Voronoi cell by a non-convex domain (paper §2.3 "trimmed by the
+// boundary"): the result is V ∩ D, whose faces are the parts of V's faces inside D and the parts
+// of the input triangles inside V, merged per facet plane.
+//
+// Conformity comes from names, as for convex cells: every vertex is named by the generators that
+// meet there, and every generator is a seed, a facet plane, an input edge or an input vertex:
+//   Voronoi vertex {i,j,k,l}; Voronoi edge through a facet {i,j,k,F}; Voronoi face through an
+//   input edge {i,j,E}; input vertex inside the cell {i,v}.
+// Two cells that share a vertex compute the same name for it, and the same faces on their
+// common bisector, because each is the bisector polygon cut by the same cross-section of D.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "froth/domain.hpp"
+#include "voronoi/convex_cell.hpp"
+
+namespace froth {
+
+// Generator numbers of the input surface's elements in vertex names (all negative, so border).
+struct SurfaceGenerators {
+  int32_t planes = 0, edges = 0;
+  std::vector<std::array<int32_t, 3>> triangle_edges;  // edge ids of (t0,t1), (t1,t2), (t2,t0)
+  std::vector<std::array<int32_t, 2>> edge_vertices;
+  explicit SurfaceGenerators(const Domain& d);
+  int32_t plane(int32_t f) const { return -(f + 1); }
+  int32_t edge(int32_t e) const { return -(planes + 1 + e); }
+  int32_t vertex(int32_t v) const { return -(planes + edges + 1 + v); }
+};
+
+// A clipped cell, with the same accessors as ConvexCell for assembly.
+class ClippedCell {
+ public:
+  size_t vertex_count() const { return points_.size(); }
+  size_t face_count() const { return face_gen_.size(); }
+  Vec3 vertex(size_t v) const { return points_[v]; }
+  int32_t face_generator(size_t f) const { return face_gen_[f]; }
+  const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
+  size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
+  const std::vector<ConvexCell::Names>& names() const { return names_; }
+
+ private:
+  friend class CellClipper;
+  std::vector<Vec3> points_;
+  std::vector<ConvexCell::Names> names_;
+  std::vector<int32_t> face_gen_;
+  std::vector<uint32_t> face_start_{0};
+  std::vector<uint16_t> face_vert_;
+};
+
+class CellClipper {
+ public:
+  CellClipper(const Domain& domain, const SurfaceGenerators& gens) : domain_(domain), gens_(gens) {}
+
+  enum class Result { Inside, Clipped };
+  // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
+  // cube [-half, half]^3) to the domain. Inside: the cell does not meet the surface and is
+  // whole. Throws nothing; returns an error text in `error` (then the result is meaningless).
+  Result clip(int32_t seed, Vec3 x, const ConvexCell& cell, double half, const std::vector<Vec3>& seeds,
+              ClippedCell& out, std::string& error);
+
+ private:
+  const Domain& domain_;
+  const SurfaceGenerators& gens_;
+};
+
+}  // namespace froth

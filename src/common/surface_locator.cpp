@@ -1,0 +1,126 @@
+#include "common/surface_locator.hpp"
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <fmt/format.h>
+
+#include "froth/error.hpp"
+
+namespace froth {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Side = CGAL::Side_of_triangle_mesh<Mesh, Kernel>;
+using Tree = Side::AABB_tree;
+
+Point to_cgal(Vec3 p) { return Point(p.x, p.y, p.z); }
+
+}  // namespace
+
+struct SurfaceLocator::Impl {
+  Mesh mesh;
+  std::unique_ptr<Tree> tree;
+  std::unique_ptr<Side> side;
+  std::vector<Point> points;
+};
+
+SurfaceLocator::SurfaceLocator(const TriangleSurface& surface) : surface_(surface), impl_(std::make_unique<Impl>()) {
+  Mesh& m = impl_->mesh;
+  for (Vec3 p : surface.vertices) {
+    impl_->points.push_back(to_cgal(p));
+    m.add_vertex(impl_->points.back());
+  }
+  for (size_t t = 0; t < surface.triangles.size(); ++t) {
+    auto [a, b, c] = surface.triangles[t];
+    auto f = m.add_face(Mesh::Vertex_index(a), Mesh::Vertex_index(b), Mesh::Vertex_index(c));
+    if (f == Mesh::null_face() || size_t(f) != t) {
+      Vec3 p = surface.vertices[a];
+      fail(ErrorKind::InvalidInput,
+           fmt::format("triangle {} cannot join its neighbours into a 2-manifold surface: one of its vertices {}, {}, {} "
+                       "(first at ({}, {}, {})) is shared by two sheets that only touch there",
+                       t, a, b, c, p.x, p.y, p.z));
+    }
+  }
+  impl_->tree = std::make_unique<Tree>(faces(m).first, faces(m).second, m);
+  impl_->tree->build();
+  impl_->side = std::make_unique<Side>(*impl_->tree);
+}
+
+SurfaceLocator::~SurfaceLocator() = default;
+
+int SurfaceLocator::side(Vec3 p) const {
+  switch ((*impl_->side)(to_cgal(p))) {
+    case CGAL::ON_BOUNDED_SIDE: return 1;
+    case CGAL::ON_BOUNDARY: return 0;
+    default: return -1;
+  }
+}
+
+bool SurfaceLocator::inside(Vec3 p) const { return side(p) > 0; }
+
+void SurfaceLocator::triangles_near(Vec3 lo, Vec3 hi, std::vector<int32_t>& out) const {
+  out.clear();
+  std::vector<Mesh::Face_index> hits;
+  impl_->tree->all_intersected_primitives(CGAL::Bbox_3(lo.x, lo.y, lo.z, hi.x, hi.y, hi.z), std::back_inserter(hits));
+  for (auto f : hits) out.push_back(int32_t(f));
+  std::sort(out.begin(), out.end());
+}
+
+bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
+  const auto& P = impl_->points;
+  auto [a, b, c] = surface_.triangles[t];
+  return CGAL::do_intersect(Kernel::Triangle_3(P[a], P[b], P[c]),
+                            Kernel::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)));
+}
+
+int SurfaceLocator::segment_crossing(Vec3 a, Vec3 b, int32_t t) const {
+  const auto& P = impl_->points;
+  auto [i, j, k] = surface_.triangles[t];
+  const Point pa = to_cgal(a), pb = to_cgal(b);
+  const auto oa = CGAL::orientation(P[i], P[j], P[k], pa), ob = CGAL::orientation(P[i], P[j], P[k], pb);
+  if (oa == CGAL::COPLANAR || ob == CGAL::COPLANAR) {
+    // An end on the plane: degenerate only if it lies in the (closed) triangle.
+    const Point& on = oa == CGAL::COPLANAR ? pa : pb;
+    return Kernel::Triangle_3(P[i], P[j], P[k]).has_on(on) ? -1 : 0;
+  }
+  if (oa == ob) return 0;
+  // The segment crosses the plane; it crosses the triangle if it passes each edge on the same side.
+  const auto s0 = CGAL::orientation(pa, pb, P[i], P[j]), s1 = CGAL::orientation(pa, pb, P[j], P[k]),
+             s2 = CGAL::orientation(pa, pb, P[k], P[i]);
+  const bool has_pos = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
+  const bool has_neg = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
+  if (has_pos && has_neg) return 0;
+  if (s0 == CGAL::ZERO || s1 == CGAL::ZERO || s2 == CGAL::ZERO) return -1;
+  return 1;
+}
+
+std::optional<std::pair<int32_t, int32_t>> SurfaceLocator::first_self_intersection() const {
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  CGAL::Polygon_mesh_processing::self_intersections(impl_->mesh, std::back_inserter(pairs));
+  if (pairs.empty()) return std::nullopt;
+  auto first = *std::min_element(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) {
+    return std::minmax(int32_t(a.first), int32_t(a.second)) < std::minmax(int32_t(b.first), int32_t(b.second));
+  });
+  return std::minmax(int32_t(first.first), int32_t(first.second));
+}
+
+bool SurfaceLocator::side_from(Vec3 a, bool a_inside, Vec3 b, std::span<const int32_t> triangles,
+                               bool& b_inside) const {
+  bool in = a_inside;
+  for (int32_t t : triangles) {
+    int c = segment_crossing(a, b, t);
+    if (c < 0) return false;
+    if (c > 0) in = !in;
+  }
+  b_inside = in;
+  return true;
+}
+
+}  // namespace froth

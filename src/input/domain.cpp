@@ -1,0 +1,318 @@
+// Domains: a box, or the solid a validated closed surface encloses. Every topological decision
+// uses exact predicates (CGAL EPICK).
+#include <algorithm>
+#include <map>
+#include <optional>
+#include <numeric>
+#include <sstream>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <fmt/format.h>
+
+#include "froth/domain.hpp"
+#include "common/surface_locator.hpp"
+#include "common/union_find.hpp"
+#include "features/features.hpp"
+#include "froth/error.hpp"
+
+namespace froth {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+
+Point to_cgal(Vec3 p) { return Point(p.x, p.y, p.z); }
+std::string fmt_point(Vec3 p) { return fmt::format("({}, {}, {})", p.x, p.y, p.z); }
+
+}  // namespace
+
+namespace {
+
+// The box as a triangle surface (outward), for its features.
+TriangleSurface box_surface(const Box& b) {
+  TriangleSurface s;
+  for (int c = 0; c < 8; ++c)
+    s.vertices.push_back({(c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z});
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {1, 3, 7, 5}, {0, 4, 6, 2}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({q[0], q[1], q[2]});
+    s.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return s;
+}
+
+}  // namespace
+
+Domain make_box_domain(Vec3 lo, Vec3 hi) {
+  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
+    fail(ErrorKind::Usage, fmt::format("box: lower corner {} must be below upper corner {} on every axis",
+                                       fmt_point(lo), fmt_point(hi)));
+  Domain d;
+  d.description = fmt::format("box:{},{},{},{},{},{}", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+  d.planes = {{{-1, 0, 0}, -lo.x}, {{1, 0, 0}, hi.x}, {{0, -1, 0}, -lo.y},
+              {{0, 1, 0}, hi.y},   {{0, 0, -1}, -lo.z}, {{0, 0, 1}, hi.z}};
+  d.bounds = {lo, hi};
+  Vec3 s = hi - lo;
+  d.volume = s.x * s.y * s.z;
+  d.surface_area = 2 * (s.x * s.y + s.y * s.z + s.z * s.x);
+  d.surface = box_surface(d.bounds);
+  d.triangle_plane = {4, 4, 5, 5, 2, 2, 3, 3, 1, 1, 0, 0};  // quads of box_surface -> planes above
+  return d;
+}
+
+Domain parse_box_spec(const std::string& spec) {
+  std::string body = spec.substr(4);
+  std::replace(body.begin(), body.end(), ',', ' ');
+  std::istringstream in(body);
+  double v[6];
+  for (double& x : v)
+    if (!(in >> x) || !std::isfinite(x))
+      fail(ErrorKind::Usage, fmt::format("'{}': expected box:X0,Y0,Z0,X1,Y1,Z1 with six finite numbers", spec));
+  std::string rest;
+  if (in >> rest) fail(ErrorKind::Usage, fmt::format("'{}': trailing text '{}' after six numbers", spec, rest));
+  return make_box_domain({v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+}
+
+namespace {
+
+// Counts, for the ray from p along `dir`, the crossings with triangles outside component `skip`;
+// nullopt when the ray grazes an edge or a vertex (the caller tries another direction).
+std::optional<size_t> crossings(const TriangleSurface& s, const std::vector<int32_t>& component, int32_t skip, Vec3 p,
+                                Vec3 far) {
+  const Point a = to_cgal(p), b = to_cgal(far);
+  size_t n = 0;
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    if (component[t] == skip) continue;
+    auto [i, j, k] = s.triangles[t];
+    const Point P = to_cgal(s.vertices[i]), Q = to_cgal(s.vertices[j]), R = to_cgal(s.vertices[k]);
+    const auto oa = CGAL::orientation(P, Q, R, a), ob = CGAL::orientation(P, Q, R, b);
+    if (oa == ob && oa != CGAL::COPLANAR) continue;
+    if (oa == CGAL::COPLANAR || ob == CGAL::COPLANAR) {
+      if (Kernel::Triangle_3(P, Q, R).has_on(oa == CGAL::COPLANAR ? a : b)) return std::nullopt;
+      continue;
+    }
+    const auto s0 = CGAL::orientation(a, b, P, Q), s1 = CGAL::orientation(a, b, Q, R), s2 = CGAL::orientation(a, b, R, P);
+    const bool pos = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
+    const bool neg = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
+    if (pos && neg) continue;
+    if (s0 == CGAL::ZERO || s1 == CGAL::ZERO || s2 == CGAL::ZERO) return std::nullopt;
+    ++n;
+  }
+  return n;
+}
+
+std::string where_edge(const std::vector<Vec3>& V, int32_t a, int32_t b) {
+  return fmt::format("edge {}-{} {} {}", a, b, fmt_point(V[a]), fmt_point(V[b]));
+}
+
+}  // namespace
+
+Domain domain_from_surface(const TriangleSurface& input, const std::string& name, bool repair) {
+  TriangleSurface s = input;
+  const auto& V = s.vertices;
+  auto& T = s.triangles;
+  if (T.size() < 4) fail(ErrorKind::InvalidInput, fmt::format("{}: {} triangles cannot close a solid", name, T.size()));
+  for (size_t v = 0; v < V.size(); ++v)
+    if (!std::isfinite(V[v].x) || !std::isfinite(V[v].y) || !std::isfinite(V[v].z))
+      fail(ErrorKind::InvalidInput, fmt::format("{}: vertex {} has a non-finite coordinate {}", name, v, fmt_point(V[v])));
+  for (size_t t = 0; t < T.size(); ++t) {
+    auto [a, b, c] = T[t];
+    if (a == b || b == c || a == c || CGAL::collinear(to_cgal(V[a]), to_cgal(V[b]), to_cgal(V[c])))
+      fail(ErrorKind::InvalidInput, fmt::format("{}: triangle {} is degenerate (zero area): {} {} {}", name, t,
+                                                fmt_point(V[a]), fmt_point(V[b]), fmt_point(V[c])));
+  }
+
+  // Each undirected edge must be used by exactly two triangles.
+  struct Use { int32_t tri; bool forward; };
+  std::map<std::pair<int32_t, int32_t>, std::vector<Use>> edges;
+  for (size_t t = 0; t < T.size(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      int32_t a = T[t][e], b = T[t][(e + 1) % 3];
+      edges[{std::min(a, b), std::max(a, b)}].push_back({int32_t(t), a < b});
+    }
+  std::vector<std::vector<std::pair<int32_t, bool>>> across(T.size());  // neighbour, same direction?
+  for (const auto& [edge, uses] : edges) {
+    if (uses.size() == 1)
+      fail(ErrorKind::InvalidInput, fmt::format("{}: surface is not closed: {} belongs to triangle {} only", name,
+                                                where_edge(V, edge.first, edge.second), uses[0].tri));
+    if (uses.size() > 2) {
+      std::string tris;
+      for (const Use& u : uses) tris += fmt::format("{}{}", tris.empty() ? "" : ", ", u.tri);
+      fail(ErrorKind::InvalidInput, fmt::format("{}: surface is not manifold: {} is shared by {} triangles ({})", name,
+                                                where_edge(V, edge.first, edge.second), uses.size(), tris));
+    }
+    const bool same = uses[0].forward == uses[1].forward;
+    if (same && !repair)
+      fail(ErrorKind::InvalidInput,
+           fmt::format("{}: inconsistent orientation: triangles {} and {} run {} in the same direction "
+                       "(--repair reorients such shells)",
+                       name, uses[0].tri, uses[1].tri, where_edge(V, edge.first, edge.second)));
+    across[uses[0].tri].push_back({uses[1].tri, same});
+    across[uses[1].tri].push_back({uses[0].tri, same});
+  }
+
+  // Shells: edge-connected components, each wound consistently (flipping triangles if --repair).
+  std::vector<int32_t> component(T.size(), -1);
+  std::vector<char> flip(T.size(), 0);
+  int32_t shells = 0;
+  Domain d;
+  for (size_t seed = 0; seed < T.size(); ++seed) {
+    if (component[seed] >= 0) continue;
+    std::vector<int32_t> stack{int32_t(seed)};
+    component[seed] = shells;
+    while (!stack.empty()) {
+      int32_t t = stack.back();
+      stack.pop_back();
+      for (auto [u, same] : across[t]) {
+        const char want = char(flip[t] ^ same);
+        if (component[u] < 0) {
+          component[u] = shells, flip[u] = want;
+          stack.push_back(u);
+        } else if (flip[u] != want) {
+          fail(ErrorKind::InvalidInput, fmt::format("{}: the shell of triangle {} cannot be oriented (it is one-sided "
+                                                    "like a Moebius strip; see triangles {} and {})",
+                                                    name, seed, t, u));
+        }
+      }
+    }
+    ++shells;
+  }
+  for (size_t t = 0; t < T.size(); ++t)
+    if (flip[t]) std::swap(T[t][1], T[t][2]), ++d.reoriented_triangles;
+
+  // Nesting: a shell inside an odd number of others bounds a cavity. Orientation is taken from
+  // nesting, never trusted to the file: outer shells face out, cavity shells into the cavity.
+  std::vector<double> volume6(shells, 0);
+  std::vector<int32_t> first_vertex(shells, -1);
+  for (size_t t = 0; t < T.size(); ++t) {
+    auto [a, b, c] = T[t];
+    volume6[component[t]] += dot(V[a], cross(V[b], V[c]));
+    if (first_vertex[component[t]] < 0) first_vertex[component[t]] = a;
+  }
+  Box b{V[0], V[0]};
+  for (Vec3 p : V) {
+    b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y), std::min(b.lo.z, p.z)};
+    b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y), std::max(b.hi.z, p.z)};
+  }
+  std::vector<char> reverse(shells, 0);
+  for (int32_t c = 0; c < shells; ++c) {
+    size_t depth = 0;
+    if (shells > 1) {
+      const Vec3 p = V[first_vertex[c]];
+      std::optional<size_t> n;
+      for (int attempt = 0; !n && attempt < 16; ++attempt) {
+        // Fixed, irrational-looking directions: deterministic and unlikely to graze anything.
+        const double u = 0.6180339887 * (attempt + 1), w = 0.4142135623 * (attempt + 1);
+        const Vec3 dir{std::cos(2 * M_PI * u) * std::sin(M_PI * w), std::sin(2 * M_PI * u) * std::sin(M_PI * w),
+                       std::cos(M_PI * w)};
+        n = crossings(s, component, c, p, p + 2 * (b.diagonal() + 1) * dir);
+      }
+      if (!n) fail(ErrorKind::Internal, fmt::format("{}: could not decide which shells enclose shell {}", name, c));
+      depth = *n;
+    }
+    const bool cavity = depth % 2 == 1;
+    d.cavities += cavity;
+    reverse[c] = (volume6[c] < 0) != cavity;
+  }
+  for (size_t t = 0; t < T.size(); ++t)
+    if (reverse[component[t]]) std::swap(T[t][1], T[t][2]);
+  d.shells = size_t(shells);
+
+  // Self-intersections (exact), on the oriented surface.
+  d.locator = std::make_shared<SurfaceLocator>(s);
+  if (auto pair = d.locator->first_self_intersection())
+    fail(ErrorKind::InvalidInput,
+         fmt::format("{}: surface intersects itself: triangles {} and {} meet away from a shared edge or vertex, near {}",
+                     name, pair->first, pair->second, fmt_point(V[T[pair->first][0]])));
+
+  // Facet planes: one per edge-connected group of coplanar triangles (exact), Newell normal
+  // (area-weighted), offset averaged over the corners. Convex: one shell and no reflex edge.
+  UnionFind coplanar(T.size());
+  bool locally_convex = shells == 1;
+  for (const auto& [edge, uses] : edges) {
+    const auto& p = T[uses[0].tri];
+    const auto& q = T[uses[1].tri];
+    int32_t far = q[0] + q[1] + q[2] - edge.first - edge.second;
+    auto o = CGAL::orientation(to_cgal(V[p[0]]), to_cgal(V[p[1]]), to_cgal(V[p[2]]), to_cgal(V[far]));
+    if (o == CGAL::POSITIVE) locally_convex = false;
+    if (o == CGAL::COPLANAR) coplanar.unite(uses[0].tri, uses[1].tri);
+  }
+  d.description = name;
+  std::map<int32_t, int32_t> plane_of_root;
+  std::vector<std::pair<Vec3, std::vector<int32_t>>> groups;
+  d.triangle_plane.resize(T.size());
+  for (size_t t = 0; t < T.size(); ++t) {
+    auto [it, added] = plane_of_root.try_emplace(coplanar.find(int32_t(t)), int32_t(groups.size()));
+    if (added) groups.emplace_back();
+    d.triangle_plane[t] = it->second;
+    auto& g = groups[it->second];
+    auto [p0, p1, p2] = T[t];
+    g.first = g.first + cross(V[p1] - V[p0], V[p2] - V[p0]);
+    g.second.insert(g.second.end(), {p0, p1, p2});
+  }
+  for (auto& [normal, corners] : groups) {
+    Vec3 n = (1.0 / norm(normal)) * normal;
+    double off = 0;
+    for (int32_t v : corners) off += dot(n, V[v]);
+    d.planes.push_back({n, off / double(corners.size())});
+  }
+
+  double total6 = 0, area2 = 0;
+  for (auto [p0, p1, p2] : T) {
+    total6 += dot(V[p0], cross(V[p1], V[p2]));
+    area2 += norm(cross(V[p1] - V[p0], V[p2] - V[p0]));
+  }
+  d.bounds = b;
+  d.volume = total6 / 6;
+  d.surface_area = area2 / 2;
+  if (!(d.volume > 0))
+    fail(ErrorKind::InvalidInput, fmt::format("{}: the surface encloses no volume ({})", name, d.volume));
+
+  // Local convexity does not exclude a surface that winds around twice; every vertex must lie
+  // inside every facet plane (self-intersection is already excluded, so this is a safeguard).
+  d.convex = locally_convex;
+  if (d.convex && double(V.size()) * double(d.planes.size()) <= 2e8) {
+    const double slack = 1e-9 * b.diagonal();
+    for (size_t v = 0; v < V.size() && d.convex; ++v)
+      for (const Plane& pl : d.planes)
+        if (pl.signed_distance(V[v]) > slack) { d.convex = false; break; }
+  }
+  d.surface = std::move(s);
+  return d;
+}
+
+bool Domain::contains(Vec3 p) const {
+  if (convex) {
+    for (const Plane& pl : planes)
+      if (pl.signed_distance(p) > 0) return false;
+    return true;
+  }
+  return locator->inside(p);
+}
+
+
+Domain load_domain(const std::string& input, const DomainOptions& options) {
+  const double feature_angle = options.feature_angle;
+  if (!(feature_angle > 0 && feature_angle < 180))
+    fail(ErrorKind::Usage, fmt::format("the feature angle must be between 0 and 180 degrees, got {}", feature_angle));
+  if (input.rfind("box:", 0) == 0) {
+    Domain d = parse_box_spec(input);
+    d.features = classify_features(d.surface, feature_angle).summary();
+    return d;
+  }
+  std::filesystem::path path(input);
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  TriangleSurface surface;
+  if (ext == ".stl") surface = read_stl(path);
+  else if (ext == ".off" || ext == ".obj" || ext == ".ply") surface = read_polygon_file(path);
+  else
+    fail(ErrorKind::Usage,
+         fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
+                     input, ext));
+  Domain d = domain_from_surface(surface, path.filename().string(), options.repair);
+  d.features = classify_features(d.surface, feature_angle).summary();
+  return d;
+}
+
+}  // namespace froth
