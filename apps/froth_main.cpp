@@ -79,11 +79,12 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
   std::string times;
   for (const auto& st : run.stages) times += fmt::format("{} {:.3f} s, ", st.stage, st.seconds);
   fmt::print(
-      "froth: meshed {} with r = {} and seed {}: {} cells ({} interior, {} fringe) from {} seeds, "
+      "froth: meshed {} with r = {} and seed {}: {} cells ({} interior, {} fringe, {} edge, {} vertex) from {} seeds, "
       "{} faces, {} points; every interior face matched, every cell closed. Volume: cells sum {:.12g}, domain "
       "{:.12g} (relative error {:.2e}). Sampling: {} darts, {} refinement levels, maximal.{} Time: {}writing {:.3f} "
       "s; total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
-      run.domain, run.r, run.seed, run.cells, run.interior_cells, run.fringe_cells, run.sampling.seeds, run.faces,
+      run.domain, run.r, run.seed, run.cells, run.interior_cells, run.fringe_cells, run.edge_cells, run.vertex_cells,
+      run.sampling.seeds, run.faces,
       run.points, run.volume_sum, run.domain_volume, run.volume_relative_error(), run.sampling.darts,
       run.sampling.levels, details_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
       run.threads, run.peak_rss_bytes / 1048576.0, output);

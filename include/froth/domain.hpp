@@ -47,6 +47,9 @@ struct Domain {
   std::vector<Plane> planes;    // facet planes (edge-connected coplanar triangles share one), outward
   TriangleSurface surface;      // oriented out of the solid: a cavity's shell faces into the cavity
   std::vector<int32_t> triangle_plane;  // each triangle's facet plane
+  // Reflex feature curves (paper §2.2) as chains of surface vertices; a closed one repeats its
+  // first vertex at the end.
+  std::vector<std::vector<int32_t>> reflex_curves;
   size_t shells = 1, cavities = 0;
   size_t reoriented_triangles = 0;      // flipped by --repair
   Box bounds;

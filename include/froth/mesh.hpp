@@ -98,7 +98,8 @@ struct SamplingLevel {
 };
 
 struct SamplingStats {
-  size_t seeds = 0;
+  size_t seeds = 0;              // all seeds, protection seeds included
+  size_t edge_seeds = 0, vertex_seeds = 0;  // protection of reflex features (paper §2.2)
   size_t darts = 0;              // darts thrown in all rounds
   size_t levels = 0;             // refinement levels used
   size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
@@ -118,9 +119,11 @@ struct RunReport {
   int threads = 0;
   FeatureSummary features;  // of the input surface
   SamplingStats sampling;
-  size_t cells = 0, interior_cells = 0, fringe_cells = 0;
+  size_t cells = 0, interior_cells = 0, fringe_cells = 0, edge_cells = 0, vertex_cells = 0;
+  double border_area = 0;  // area of the border faces, to compare with the surface's
   size_t faces = 0, points = 0;
   double domain_volume = 0, volume_sum = 0;
+  double surface_area = 0;  // of the domain
   std::vector<StageTiming> stages;
   std::shared_ptr<const QualityReport> quality;  // when MeshOptions::quality
   // When also welding: the quality report's bound counts (only those) before welding.

@@ -22,4 +22,7 @@ MeshCheck check_mesh(const PolyMesh& mesh);
 // centroids).
 double cell_volume(const PolyMesh& mesh, size_t c);
 
+// Total area of the border faces (Newell), which must equal the domain's surface area.
+double border_area(const PolyMesh& mesh);
+
 }  // namespace froth

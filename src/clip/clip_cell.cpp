@@ -5,6 +5,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "common/surface_locator.hpp"
 #include "common/union_find.hpp"
@@ -91,7 +92,7 @@ bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t
 
 }  // namespace
 
-CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& cell, double half,
+CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
                                       const std::vector<Vec3>& seeds, ClippedCell& out, std::string& error) {
   const SurfaceLocator& locator = *domain_.locator;
   const TriangleSurface& S = domain_.surface;
@@ -146,12 +147,17 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& ce
     for (size_t f = 0; f < nf && !poly.empty(); ++f) {
       const Plane& pl = plane[f];
       const int32_t g = cell.face_generator(f);
+      // The bounding cube is met only if the sample is not maximal (the piece inside the
+      // bisectors lies within r of the seed, Lemma 1); checked after the loop.
+      if (ConvexCell::is_cube_generator(g)) continue;
       bool any_out = false, any_in = false;
       double s[64];
       if (poly.size() > 64) return fail_with("a clipped triangle has more than 64 vertices");
       for (size_t k = 0; k < poly.size(); ++k) {
         s[k] = pl.signed_distance(poly[k].p);
-        if (s[k] == 0) return fail_with(fmt::format("input triangle {} touches a cell face exactly (degenerate)", t));
+        if (s[k] == 0)
+          return fail_with(fmt::format("input triangle {} touches the face on generator {} exactly at ({}) (degenerate)", t,
+                                       g, fmt::join(poly[k].key.gen, poly[k].key.gen + poly[k].key.n, ",")));
         (s[k] > 0 ? any_out : any_in) = true;
       }
       if (!any_out) continue;
@@ -172,6 +178,11 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& ce
       poly.swap(next);
     }
     if (poly.size() < 3) continue;
+    for (size_t f = 0; f < nf; ++f)
+      if (ConvexCell::is_cube_generator(cell.face_generator(f)))
+        for (const PolyVertex& v : poly)
+          if (plane[f].signed_distance(v.p) >= 0)
+            return fail_with("the surface reaches beyond r from the seed inside its cell: the sample is not maximal");
     int32_t idx[64];
     for (size_t k = 0; k < poly.size(); ++k) idx[k] = intern(poly[k].key, poly[k].p);
     for (size_t k = 0; k < poly.size(); ++k) {
@@ -187,7 +198,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& ce
     }
   }
 
-  // 2. Which of V's vertices are inside: parity from the seed to one, then along V's edges,
+  // 2. Which of V's vertices are inside: parity from the anchor to one, then along V's edges,
   // toggling at each crossing.
   std::vector<Names> vnames;
   cell.vertex_names(vnames);
@@ -205,13 +216,13 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, const ConvexCell& ce
   std::vector<int8_t> status(nv, -1);
   for (size_t v = 0; v < nv; ++v) {
     bool in;
-    if (locator.side_from(x, true, x + cell.vertex(v), tris, in)) {
+    if (locator.side_from(x + anchor, true, x + cell.vertex(v), tris, in)) {
       status[v] = in;
       break;
     }
   }
   if (std::all_of(status.begin(), status.end(), [](int8_t s) { return s < 0; }))
-    return fail_with("every ray from the seed to a cell vertex grazes the surface (degenerate)");
+    return fail_with("every segment from the seed to a cell vertex grazes the surface (degenerate)");
   for (bool changed = true; changed;) {
     changed = false;
     for (const auto& [e, f] : face_of_edge) {

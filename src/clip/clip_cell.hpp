@@ -55,9 +55,11 @@ class CellClipper {
 
   enum class Result { Inside, Clipped };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
-  // cube [-half, half]^3) to the domain. Inside: the cell does not meet the surface and is
-  // whole. Throws nothing; returns an error text in `error` (then the result is meaningless).
-  Result clip(int32_t seed, Vec3 x, const ConvexCell& cell, double half, const std::vector<Vec3>& seeds,
+  // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
+  // inside the domain: the seed itself, or a point just off the surface for a protection seed.
+  // Inside: the cell does not meet the surface and is whole. Throws nothing; returns an error
+  // text in `error` (then the result is meaningless).
+  Result clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half, const std::vector<Vec3>& seeds,
               ClippedCell& out, std::string& error);
 
  private:

@@ -311,7 +311,10 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
          fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
                      input, ext));
   Domain d = domain_from_surface(surface, path.filename().string(), options.repair);
-  d.features = classify_features(d.surface, feature_angle).summary();
+  const SurfaceFeatures features = classify_features(d.surface, feature_angle);
+  d.features = features.summary();
+  for (const FeatureCurve& c : features.curves)
+    if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);
   return d;
 }
 

@@ -20,6 +20,8 @@ std::string report_json_text(const RunReport& run) {
                    {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};
   const auto& s = run.sampling;
   j["sampling"] = {{"seeds", s.seeds},
+                   {"edge_seeds", s.edge_seeds},
+                   {"vertex_seeds", s.vertex_seeds},
                    {"darts", s.darts},
                    {"refinement_levels", s.levels},
                    {"uncovered_cubes", s.uncovered_cubes},
@@ -31,11 +33,14 @@ std::string report_json_text(const RunReport& run) {
   j["mesh"] = {{"cells", run.cells},
                {"interior_cells", run.interior_cells},
                {"fringe_cells", run.fringe_cells},
+               {"edge_cells", run.edge_cells},
+               {"vertex_cells", run.vertex_cells},
                {"faces", run.faces},
                {"points", run.points}};
   j["volume"] = {{"domain", run.domain_volume},
                  {"cells_sum", run.volume_sum},
                  {"relative_error", run.volume_relative_error()}};
+  j["border_area"] = {{"surface", run.surface_area}, {"border_faces", run.border_area}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
   for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;

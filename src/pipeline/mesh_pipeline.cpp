@@ -71,6 +71,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   run.weld = opt.weld;
   run.threads = omp_get_max_threads();
   run.domain_volume = domain.volume;
+  run.surface_area = domain.surface_area;
   run.features = domain.features;
 
   auto progress = [&](const char* stage) {
@@ -149,8 +150,10 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   run.cells = mesh.cell_count();
   run.faces = mesh.face_count();
   run.points = mesh.points.size();
-  run.interior_cells = run.fringe_cells = 0;
-  for (CellKind k : mesh.kinds) (k == CellKind::Interior ? run.interior_cells : run.fringe_cells)++;
+  size_t* count_of[] = {&run.interior_cells, &run.fringe_cells, &run.edge_cells, &run.vertex_cells};
+  for (size_t* c : count_of) *c = 0;
+  for (CellKind k : mesh.kinds) ++*count_of[size_t(k)];
+  run.border_area = border_area(mesh);
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;

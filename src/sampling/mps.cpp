@@ -16,11 +16,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <span>
 
 #include "common/random.hpp"
 #include "common/seed_buckets.hpp"
 #include "common/surface_locator.hpp"
+#include "sampling/protect.hpp"
 #include "common/tolerances.hpp"
 
 namespace froth {
@@ -86,7 +88,8 @@ class Sampler {
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
 
-  Sample run() {
+  Sample run(uint64_t seed) {
+    protect(seed);
     std::vector<ActiveCube> active = initial_cubes();
     int level = 0;
     while (!active.empty()) {
@@ -342,7 +345,7 @@ class Sampler {
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
-        if (s_.cube_seed[c.base] >= 0) continue;
+        if (s_.cube_seed[c.base] != -1) continue;  // a seed covers the whole base cube
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
         const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
         int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]));
@@ -474,7 +477,7 @@ class Sampler {
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
-        if (s_.cube_seed[c.base] >= 0) continue;  // its seed covers the whole base cube
+        if (s_.cube_seed[c.base] != -1) continue;  // a seed covers the whole base cube
         if (c.base != cached_base) {  // sub-cubes of one base cube are adjacent in the list
           cached_base = c.base;
           seeds_near_box(base_origin(c.base), s_.grid.side, near_base);
@@ -504,14 +507,51 @@ class Sampler {
     return concatenate(kept);
   }
 
+  // Protection seeds first (paper §2.2); the free seeds then keep r from them like from each other.
+  void protect(uint64_t seed) {
+    if (domain_.convex || domain_.reflex_curves.empty()) return;
+    ProtectionSeeds p = protect_reflex_features(domain_, r_, seed);
+    std::map<int64_t, std::vector<int32_t>> in_cube;
+    for (size_t k = 0; k < p.points.size(); ++k) {
+      const int32_t id = int32_t(s_.seeds.size());
+      s_.seeds.push_back(p.points[k]);
+      buckets_.insert(id, p.points[k]);
+      s_.protected_seeds.push_back({id, p.kinds[k], p.inward[k]});
+      int i, j, l;
+      s_.grid.locate(p.points[k], i, j, l);
+      in_cube[s_.grid.index(i, j, l)].push_back(id);
+    }
+    s_.cube_extra_begin.assign(1, 0);
+    for (const auto& [c, ids] : in_cube) {
+      if (ids.size() == 1) {
+        s_.cube_seed[c] = ids[0];
+        continue;
+      }
+      s_.cube_seed[c] = -2 - int32_t(s_.cube_extra_begin.size() - 1);
+      s_.cube_extra.insert(s_.cube_extra.end(), ids.begin(), ids.end());
+      s_.cube_extra_begin.push_back(int32_t(s_.cube_extra.size()));
+    }
+    s_.stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
+    s_.stats.edge_seeds = p.points.size() - s_.stats.vertex_seeds;
+  }
+
   void order_seeds_by_cube() {
     std::vector<Vec3> ordered;
     ordered.reserve(s_.seeds.size());
-    for (int32_t& q : s_.cube_seed)
-      if (q >= 0) {
-        ordered.push_back(s_.seeds[q]);
-        q = int32_t(ordered.size() - 1);
-      }
+    std::vector<int32_t> new_id(s_.seeds.size(), -1);
+    auto place = [&](int32_t& q) {
+      new_id[q] = int32_t(ordered.size());
+      ordered.push_back(s_.seeds[q]);
+      q = new_id[q];
+    };
+    for (int32_t& q : s_.cube_seed) {
+      if (q >= 0) place(q);
+      else if (q <= -2)
+        for (int32_t k = s_.cube_extra_begin[-2 - q]; k < s_.cube_extra_begin[-1 - q]; ++k) place(s_.cube_extra[k]);
+    }
+    for (auto& p : s_.protected_seeds) p.seed = new_id[p.seed];
+    std::sort(s_.protected_seeds.begin(), s_.protected_seeds.end(),
+              [](const auto& a, const auto& b) { return a.seed < b.seed; });
     s_.seeds = std::move(ordered);
   }
 
@@ -530,7 +570,7 @@ class Sampler {
 }  // namespace
 
 Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed) {
-  return Sampler(domain, r, seed).run();
+  return Sampler(domain, r, seed).run(seed);
 }
 
 }  // namespace froth

@@ -1,6 +1,7 @@
 // Unbiased maximal Poisson-disk sampling (Ebeida et al. 2012, "A simple algorithm for maximal
 // Poisson-disk sampling in high dimensions"), with a schedule defined on the global grid.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -13,8 +14,33 @@ namespace froth {
 struct Sample {
   BackgroundGrid grid;
   std::vector<Vec3> seeds;          // ordered by base cube index
-  std::vector<int32_t> cube_seed;   // per base cube: index of its seed, or -1
+  // Per base cube: index of its seed, -1 if none, or -2 - k if it holds several protection
+  // seeds (r_e apart, closer than a cube's diagonal): cube_extra[cube_extra_begin[k] ...].
+  std::vector<int32_t> cube_seed;
+  std::vector<int32_t> cube_extra_begin, cube_extra;
+  // Protection seeds (src/sampling/protect.hpp), sorted by seed index: kind and a direction
+  // into the domain. Every other seed is a free one.
+  struct Protected {
+    int32_t seed;
+    CellKind kind;
+    Vec3 inward;
+  };
+  std::vector<Protected> protected_seeds;
   SamplingStats stats;
+
+  // Calls f(seed index) for every seed in base cube c.
+  template <class F>
+  void for_seeds_in_cube(int64_t c, F&& f) const {
+    const int32_t q = cube_seed[c];
+    if (q >= 0) return f(q);
+    if (q == -1) return;
+    for (int32_t k = cube_extra_begin[-2 - q]; k < cube_extra_begin[-1 - q]; ++k) f(cube_extra[k]);
+  }
+  const Protected* protection_of(int32_t seed) const {
+    auto it = std::lower_bound(protected_seeds.begin(), protected_seeds.end(), seed,
+                               [](const Protected& p, int32_t s) { return p.seed < s; });
+    return it != protected_seeds.end() && it->seed == seed ? &*it : nullptr;
+  }
 };
 
 // A maximal r-disk sample of the domain, a pure function of (domain, r, seed).

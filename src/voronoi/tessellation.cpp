@@ -51,7 +51,7 @@ struct CellChunk {
   PagedVector<uint32_t> face_begin{0};       // per cell, into face_gen
   PagedVector<int32_t> face_gen;
   PagedVector<uint8_t> face_size;
-  PagedVector<uint8_t> face_vert;            // local vertex ids
+  PagedVector<uint16_t> face_vert;           // local vertex ids (clipped cells can exceed 255)
   PagedVector<CellKind> kinds;
   size_t face_vertex_count = 0;
 
@@ -72,7 +72,8 @@ struct CellChunk {
 
   void release_private() {
     for (auto* v : {&vertex_begin, &face_begin}) PagedVector<uint32_t>().swap(*v);
-    for (auto* v : {&vertex_info, &face_size, &face_vert}) PagedVector<uint8_t>().swap(*v);
+    for (auto* v : {&vertex_info, &face_size}) PagedVector<uint8_t>().swap(*v);
+    PagedVector<uint16_t>().swap(face_vert);
     PagedVector<int32_t>().swap(other_keys);
     PagedVector<int32_t>().swap(face_gen);
     PagedVector<Vec3>().swap(owned_points);
@@ -129,10 +130,11 @@ class CellBuilder {
     nb.clear();
     const double reach = 2 * r_ * (1 + 1e-9);
     sample_.grid.for_cubes_near(x, reach, [&](int64_t c) {
-      int32_t j = sample_.cube_seed[c];
-      if (j < 0 || j == i) return;
-      double d2 = norm2(sample_.seeds[j] - x);
-      if (d2 <= reach * reach) nb.push_back({d2, j});
+      sample_.for_seeds_in_cube(c, [&](int32_t j) {
+        if (j == i) return;
+        double d2 = norm2(sample_.seeds[j] - x);
+        if (d2 <= reach * reach) nb.push_back({d2, j});
+      });
     });
     std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
       return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed;
@@ -150,9 +152,13 @@ class CellBuilder {
     if (!domain_.convex) {
       std::string error;
       CellClipper clipper(domain_, *generators_);
-      if (clipper.clip(i, x, cell, half, sample_.seeds, clipped, error) == CellClipper::Result::Clipped) {
+      // A protection seed lies on the surface: inside tests start from a point just off it.
+      const Sample::Protected* p = sample_.protection_of(i);
+      const Vec3 anchor = p ? 1e-6 * r_ * p->inward : Vec3{};
+      if (clipper.clip(i, x, anchor, cell, half, sample_.seeds, clipped, error) == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
-        if (clipped.vertex_count() > 255) return fmt::format("cell {} has {} vertices", i, clipped.vertex_count());
+        for (size_t f = 0; f < clipped.face_count(); ++f)
+          if (clipped.face_size(f) > 255) return fmt::format("cell {} has a face of {} vertices", i, clipped.face_size(f));
         is_clipped = true;
         return {};
       }
@@ -161,7 +167,8 @@ class CellBuilder {
       if (ConvexCell::is_cube_generator(cell.face_generator(f)))
         return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
                            i, x.x, x.y, x.z);
-    if (cell.vertex_count() > 255) return fmt::format("cell {} has {} vertices", i, cell.vertex_count());
+    for (size_t f = 0; f < cell.face_count(); ++f)
+      if (cell.face_size(f) > 255) return fmt::format("cell {} has a face of {} vertices", i, cell.face_size(f));
     if (!cell.vertex_names(names))
       return fmt::format("cell {}: a vertex lies on more than {} faces", i, ConvexCell::kMaxGenerators);
     return {};
@@ -176,7 +183,8 @@ class CellBuilder {
 };
 
 template <class Cell>
-void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::vector<ConvexCell::Names>& names) {
+void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::vector<ConvexCell::Names>& names,
+                 const Sample::Protected* protection) {
   int32_t key[ConvexCell::kMaxGenerators + 1];
   bool fringe = false;
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
@@ -204,10 +212,10 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
     ch.face_gen.push_back(g);
     ch.face_size.push_back(uint8_t(cell.face_size(f)));
     const uint16_t* fv = cell.face_begin(f);
-    for (size_t k = 0; k < cell.face_size(f); ++k) ch.face_vert.push_back(uint8_t(fv[k]));
+    for (size_t k = 0; k < cell.face_size(f); ++k) ch.face_vert.push_back(fv[k]);
     ch.face_vertex_count += cell.face_size(f);
   }
-  ch.kinds.push_back(fringe ? CellKind::Fringe : CellKind::Interior);
+  ch.kinds.push_back(protection ? protection->kind : fringe ? CellKind::Fringe : CellKind::Interior);
   ch.vertex_begin.push_back(uint32_t(ch.vertex_info.size()));
   ch.owned_begin.push_back(uint32_t(ch.owned_key_len.size()));
   ch.owned_key_begin.push_back(uint32_t(ch.owned_keys.size()));
@@ -248,8 +256,9 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
           if (i < first_bad) first_bad = i, first_error = err;
           break;
         }
-        if (is_clipped) append_cell(ch, int32_t(i), sample.seeds[i], clipped, clipped.names());
-        else append_cell(ch, int32_t(i), sample.seeds[i], cell, names);
+        const Sample::Protected* protection = sample.protection_of(int32_t(i));
+        if (is_clipped) append_cell(ch, int32_t(i), sample.seeds[i], clipped, clipped.names(), protection);
+        else append_cell(ch, int32_t(i), sample.seeds[i], cell, names, protection);
       }
     }
   }
