@@ -48,8 +48,9 @@ double weld_tolerance(double weld, double r) { return weld < 0 ? 1e-4 * r : weld
 std::string details_sentence(const froth::RunReport& run) {
   const froth::FeatureSummary& f = run.features;
   std::string out = fmt::format(
-      " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges.",
-      f.angle_degrees, f.convex_edges, f.reflex_edges, f.curves, f.corners, f.flat_edges);
+      " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges ({} of them "
+      "concave).",
+      f.angle_degrees, f.convex_edges, f.reflex_edges, f.curves, f.corners, f.flat_edges, f.flat_reflex_edges);
   if (run.welding) {
     const froth::WeldStats& w = *run.welding;
     out += fmt::format(

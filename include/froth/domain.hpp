@@ -29,6 +29,9 @@ TriangleSurface read_polygon_file(const std::filesystem::path& path);
 struct FeatureSummary {
   double angle_degrees = 0;  // edges turning by more than this are features
   size_t flat_edges = 0, convex_edges = 0, reflex_edges = 0;
+  // Flat edges that turn the reflex way (a concave curved surface's facets): not protected, so
+  // the cells along such a surface are star-shaped only up to its curvature.
+  size_t flat_reflex_edges = 0;
   size_t curves = 0, convex_curves = 0, reflex_curves = 0, corners = 0;
 };
 
@@ -37,6 +40,7 @@ struct FeatureSummary {
 // the torus), while machined edges turn by 45 to 90 degrees; 30 separates the two with room on
 // both sides (the shared models' README counts sharp edges at the same 30).
 inline constexpr double kDefaultFeatureAngle = 30;
+
 
 class SurfaceLocator;
 
@@ -47,8 +51,9 @@ struct Domain {
   std::vector<Plane> planes;    // facet planes (edge-connected coplanar triangles share one), outward
   TriangleSurface surface;      // oriented out of the solid: a cavity's shell faces into the cavity
   std::vector<int32_t> triangle_plane;  // each triangle's facet plane
-  // Reflex feature curves (paper §2.2) as chains of surface vertices; a closed one repeats its
-  // first vertex at the end.
+  // Reflex feature curves (paper §2.2), the ones protection seeds, as chains of surface
+  // vertices; a closed one repeats its first vertex at the end. Reflex edges below the feature
+  // angle (the facets of a concave curved surface) are flat and not protected.
   std::vector<std::vector<int32_t>> reflex_curves;
   size_t shells = 1, cavities = 0;
   size_t reoriented_triangles = 0;      // flipped by --repair

@@ -3,7 +3,9 @@
 // reach of a point or box reads a few contiguous buckets instead of walking the fine sampling
 // grid (cubes of side r/sqrt(3), ~0.15 seeds each). Each bucket also keeps its seeds' offsets
 // from the bucket's corner as floats (exact to ~1e-7 r), a prefilter that spares most reads of
-// the (unordered) seed array; callers still decide with the exact coordinates.
+// the (unordered) seed array; callers still decide with the exact coordinates. Protection seeds
+// (r_e apart, or closer at a domain's corners) can crowd a bucket: the ones beyond 8 go to a
+// sorted overflow list, read only for the buckets marked full.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -35,8 +37,13 @@ class SeedBuckets {
     const size_t at = index(i, j, k);
     Bucket& b = buckets_[at];
     uint8_t& n = counts_[at];
-    if (n == kCapacity)
-      fail(ErrorKind::Internal, "more than 8 seeds r apart in a cube of side r: the sample is not an r-sample");
+    if (n >= kCapacity) {
+      n = kCapacity + 1;
+      auto it = std::upper_bound(overflow_.begin(), overflow_.end(), at,
+                                 [](size_t a, const Overflow& o) { return a < o.bucket; });
+      overflow_.insert(it, {at, id});
+      return;
+    }
     Vec3 c = corner(i, j, k);
     b.x[n] = float(p.x - c.x);
     b.y[n] = float(p.y - c.y);
@@ -67,8 +74,13 @@ class SeedBuckets {
         if (gyz > reach2_bucket) continue;
         const size_t row = index(0, j, k);
         for (int i = a[0]; i <= b[0]; ++i) {
-          const int count = counts_[row + i];
+          const int count = std::min<int>(counts_[row + i], kCapacity);
           if (count == 0 || gyz + gap(i, 0) > reach2_bucket) continue;
+          if (counts_[row + i] > kCapacity) {
+            auto it = std::lower_bound(overflow_.begin(), overflow_.end(), row + i,
+                                       [](const Overflow& o, size_t a) { return o.bucket < a; });
+            for (; it != overflow_.end() && it->bucket == row + i; ++it) f(it->id);
+          }
           const Bucket& bk = buckets_[row + i];
           const Vec3 c = corner(i, j, k);
           const float lx = float(lo.x - c.x), ly = float(lo.y - c.y), lz = float(lo.z - c.z);
@@ -98,7 +110,12 @@ class SeedBuckets {
   double side_ = 1;
   int n_[3] = {1, 1, 1};
   std::vector<Bucket> buckets_;
-  std::vector<uint8_t> counts_;  // apart from the payload: most buckets are empty
+  std::vector<uint8_t> counts_;  // apart from the payload: most buckets are empty; 9 = overflowed
+  struct Overflow {
+    size_t bucket;
+    int32_t id;
+  };
+  std::vector<Overflow> overflow_;
 };
 
 }  // namespace froth

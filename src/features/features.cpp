@@ -12,6 +12,7 @@ FeatureSummary SurfaceFeatures::summary() const {
   FeatureSummary s;
   s.angle_degrees = angle_degrees;
   s.flat_edges = flat_edges, s.convex_edges = convex_edges, s.reflex_edges = reflex_edges;
+  s.flat_reflex_edges = flat_reflex_edges;
   s.curves = curves.size();
   s.corners = corners.size();
   for (const FeatureCurve& c : curves) (c.cls == EdgeClass::Reflex ? s.reflex_curves : s.convex_curves)++;
@@ -46,15 +47,16 @@ SurfaceFeatures classify_features(const TriangleSurface& s, double angle_degrees
     auto twin = owner.find({b, a});
     if (twin == owner.end()) continue;
     const int32_t t1 = twin->second;
-    if (dot(normal(t0), normal(t1)) >= cos_limit) {
-      ++out.flat_edges;
-      continue;
-    }
     // Reflex if t1's far vertex lies above t0's plane (outward normals): orientation() is the
     // sign of det(q - p, r - p, s - p), that is of dot(normal, s - p).
     const auto& tri = s.triangles[t0];
     const bool reflex = CGAL::orientation(point(tri[0]), point(tri[1]), point(tri[2]), point(third(t1, a, b))) ==
                         CGAL::POSITIVE;
+    if (dot(normal(t0), normal(t1)) >= cos_limit) {
+      ++out.flat_edges;
+      out.flat_reflex_edges += reflex;
+      continue;
+    }
     const EdgeClass cls = reflex ? EdgeClass::Reflex : EdgeClass::Convex;
     (reflex ? out.reflex_edges : out.convex_edges)++;
     graph[a].push_back({b, cls});

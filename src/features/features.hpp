@@ -20,6 +20,7 @@ struct FeatureCurve {
 struct SurfaceFeatures {
   double angle_degrees = 0;
   size_t flat_edges = 0, convex_edges = 0, reflex_edges = 0;
+  size_t flat_reflex_edges = 0;  // flat, but turning the reflex way: a concave curved surface
   std::vector<FeatureCurve> curves;
   std::vector<int32_t> corners;  // vertices where feature curves end or change class
   FeatureSummary summary() const;

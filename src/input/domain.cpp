@@ -313,8 +313,9 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
   Domain d = domain_from_surface(surface, path.filename().string(), options.repair);
   const SurfaceFeatures features = classify_features(d.surface, feature_angle);
   d.features = features.summary();
-  for (const FeatureCurve& c : features.curves)
-    if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);
+  if (!d.convex)
+    for (const FeatureCurve& c : features.curves)
+      if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);
   return d;
 }
 

@@ -15,6 +15,7 @@ std::string report_json_text(const RunReport& run) {
                 {"threads", run.threads}};
   const auto& f = run.features;
   j["features"] = {{"angle_degrees", f.angle_degrees}, {"flat_edges", f.flat_edges},
+                     {"flat_reflex_edges", f.flat_reflex_edges},
                    {"convex_edges", f.convex_edges},   {"reflex_edges", f.reflex_edges},
                    {"curves", f.curves},               {"convex_curves", f.convex_curves},
                    {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};

@@ -34,6 +34,7 @@ struct CellScratch {
   struct EdgeUse {
     int32_t a, b;  // a < b
     uint32_t face;
+    bool forward;  // the face runs the edge from a to b
   };
   std::vector<EdgeUse> edges;
 };
@@ -41,7 +42,12 @@ struct CellScratch {
 struct Dihedral {
   double degrees;
   DihedralClass cls;
+  bool relaxed;  // its faces come from protection seeds r_e apart (see judge)
 };
+
+bool is_protection_seed(const PolyMesh& m, int32_t generator) {
+  return generator >= 0 && m.kinds[generator] >= CellKind::Edge;
+}
 
 // Fills everything but the summary; `angles` receives each edge's dihedral.
 CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dihedral>* angles) {
@@ -58,7 +64,7 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     for (int64_t k = b; k < e; ++k) {
       w.ids.push_back(m.face_vertices[k]);
       const int32_t a = m.face_vertices[k], bb = m.face_vertices[k + 1 < e ? k + 1 : b];
-      w.edges.push_back({std::min(a, bb), std::max(a, bb), uint32_t(f - f0)});
+      w.edges.push_back({std::min(a, bb), std::max(a, bb), uint32_t(f - f0), a < bb});
     }
     // The best-fit plane of a (possibly welded) face, relative to the seed.
     const FacePlane plane =
@@ -94,31 +100,43 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     if (x.a != y.a || x.b != y.b) continue;
     ++k;
     q.min_edge = std::min(q.min_edge, norm(m.points[x.a] - m.points[x.b]));
-    // The angle inside the cell between two faces is pi minus the angle of their outward normals.
+    // The angle inside the cell between two faces is pi minus the angle of their outward normals
+    // at a convex edge, pi plus it at a reflex one (star-shaped cells of non-convex domains):
+    // convex when the normals turn along the edge as the first face runs it.
     const double cosine = std::clamp(dot(w.normals[x.face], w.normals[y.face]), -1.0, 1.0);
-    const double angle = 180 - std::acos(cosine) * kDegree;
+    const Vec3 run = x.forward ? m.points[x.b] - m.points[x.a] : m.points[x.a] - m.points[x.b];
+    const bool reflex = dot(cross(w.normals[x.face], w.normals[y.face]), run) < 0;
+    const double angle = reflex ? 180 + std::acos(cosine) * kDegree : 180 - std::acos(cosine) * kDegree;
     q.min_dihedral = std::min(q.min_dihedral, angle);
     q.max_dihedral = std::max(q.max_dihedral, angle);
     if (angles) {
       const int borders = int(w.border[x.face]) + int(w.border[y.face]);
-      angles->push_back({angle, DihedralClass(borders)});
+      const int32_t gx = m.face_generator[f0 + x.face], gy = m.face_generator[f0 + y.face];
+      const bool relaxed = borders == 0 ? is_protection_seed(m, gx) && is_protection_seed(m, gy)
+                                        : m.kinds[c] >= CellKind::Edge &&
+                                              (is_protection_seed(m, gx) || is_protection_seed(m, gy));
+      angles->push_back({angle, DihedralClass(borders), relaxed});
     }
   }
   return q;
 }
 
 // The paper's bounds for one cell: Theorem 1 and Lemma 6 speak of interior cells, Lemma 6's
-// border-interior bound of every cell.
+// border-interior bound of every cell. Lemma 6 takes sin(theta) >= 1/2 from seeds r apart; where
+// the seeds that make the angle are protection seeds r_e = r/sqrt(2) apart it has
+// sin(theta) >= sqrt(2)/4 instead (paper §3.2), so theta >= 20.7 degrees.
 CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedral>& angles) {
+  static const double relaxed_theta = std::asin(std::sqrt(2.0) / 4) * 180 / M_PI;
   CellVerdict v;
   v.q = q;
   const bool interior = kind == CellKind::Interior;
   v.theorem1 = interior && !(q.aspect <= kTheorem1Aspect);
   for (const Dihedral& d : angles) {
+    const double theta = d.relaxed ? relaxed_theta : 30;
     if (d.cls == DihedralClass::InteriorInterior && interior)
-      v.lemma6_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+      v.lemma6_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 180 - theta + kAngleSlack;
     if (d.cls == DihedralClass::BorderInterior)
-      v.lemma6_border |= d.degrees < 30 - kAngleSlack || d.degrees > 150 + kAngleSlack;
+      v.lemma6_border |= d.degrees < theta - kAngleSlack || d.degrees > 180 - theta + kAngleSlack;
   }
   return v;
 }

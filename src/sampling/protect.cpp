@@ -58,31 +58,56 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
     for (int k = 0; k < 3; ++k) at_edge[{tri[k], tri[(k + 1) % 3]}] = int32_t(t);
   }
 
+  // Pieces, grouped into lines: maximal straight runs of a curve. The 1D argument holds along a
+  // straight line, so a curve gets a vertex seed at each end and where it bends, and a seed
+  // covers only the line it lies on (the lines that end at it, for a vertex seed): a point of
+  // one reflex edge must be closest to a seed on that edge, not to one on its neighbour.
   std::vector<Piece> pieces;
-  std::vector<int32_t> ends;
+  std::vector<int32_t> line_of_piece;
+  std::map<int32_t, std::vector<int32_t>> lines_at_vertex;  // vertex seeds and the lines they end
+  int32_t lines = 0;
+  auto bends = [&](int32_t a, int32_t b, int32_t c) {
+    return norm(cross(unit(S.vertices[b] - S.vertices[a]), unit(S.vertices[c] - S.vertices[b]))) > 1e-9;
+  };
   for (const auto& curve : domain.reflex_curves) {
     const bool closed = curve.front() == curve.back() && curve.size() > 2;
-    if (!closed) ends.push_back(curve.front()), ends.push_back(curve.back());
-    for (size_t k = 0; k + 1 < curve.size(); ++k) {
+    const size_t n = curve.size() - 1;  // pieces
+    // Where lines start: the curve's ends and its bends.
+    std::vector<char> split(n, 0);
+    for (size_t k = 0; k < n; ++k) {
+      if (k == 0) split[k] = !closed || n < 3 || bends(curve[n - 1], curve[0], curve[1]);
+      else split[k] = bends(curve[k - 1], curve[k], curve[k + 1]);
+    }
+    size_t first = std::find(split.begin(), split.end(), 1) - split.begin();
+    if (first == n) first = 0, split[0] = 1;  // a closed loop with no bend: start anywhere
+    for (size_t q = 0; q < n; ++q) {
+      const size_t k = (first + q) % n;
+      if (split[k]) {  // a new line starts at vertex curve[k]; the previous one ends there
+        if (q > 0) lines_at_vertex[curve[k]].push_back(lines - 1);
+        lines_at_vertex[curve[k]].push_back(lines++);
+      }
       const Vec3 a = S.vertices[curve[k]], b = S.vertices[curve[k + 1]];
       const double len = norm(b - a);
       // Into the domain from a reflex edge: against the sum of its two facets' outward normals.
       const Vec3 in = unit(-1.0 * (normal[at_edge.at({curve[k], curve[k + 1]})] +
                                    normal[at_edge.at({curve[k + 1], curve[k]})]));
       pieces.push_back({a, (1 / len) * (b - a), len, in, {{0.0, len}}});
+      line_of_piece.push_back(lines - 1);
     }
+    // The last line ends at the curve's end, which is where the first starts on a closed curve.
+    lines_at_vertex[closed ? curve[first] : curve[n]].push_back(lines - 1);
   }
-  std::sort(ends.begin(), ends.end());
-  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
 
-  auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
+  auto add = [&](Vec3 p, CellKind kind, Vec3 in, const std::vector<int32_t>& on_lines) {
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
-    for (Piece& piece : pieces) cover(piece, p, re);
+    for (size_t k = 0; k < pieces.size(); ++k)
+      if (std::find(on_lines.begin(), on_lines.end(), line_of_piece[k]) != on_lines.end()) cover(pieces[k], p, re);
   };
 
-  // Curve ends: a vertex seed each, pointing into the domain along the first of a few
+  const CounterRng rng(seed, RandomStream::Protection);
+  // Curve ends and bends: a vertex seed each, pointing into the domain along the first of a few
   // directions that an exact inside test confirms.
-  for (int32_t v : ends) {
+  for (const auto& [v, on_lines] : lines_at_vertex) {
     const Vec3 p = S.vertices[v];
     std::vector<Vec3> candidates;
     Vec3 sum{};
@@ -95,23 +120,45 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
       for (size_t j = i + 1; j < around.size(); ++j)
         if (norm(normal[around[i]] + normal[around[j]]) > 1e-6)
           candidates.push_back(unit(-1.0 * (normal[around[i]] + normal[around[j]])));
+    // Then directions spread over the sphere (a Fibonacci lattice), for needle-like corners.
+    for (int k = 0; k < 512; ++k) {
+      const double z = 1 - (2 * k + 1) / 512.0, rho = std::sqrt(1 - z * z), phi = k * 2.399963229728653;
+      candidates.push_back({rho * std::cos(phi), rho * std::sin(phi), z});
+    }
     Vec3 in{};
-    for (Vec3 c : candidates)
-      if (domain.locator->inside(p + 1e-6 * r * c)) {
-        in = c;
-        break;
-      }
+    for (double step : {1e-6 * r, 1e-9 * r}) {
+      for (Vec3 c : candidates)
+        if (domain.locator->inside(p + step * c)) {
+          in = c;
+          break;
+        }
+      if (norm2(in) > 0) break;
+    }
     if (norm2(in) == 0)
       fail(ErrorKind::InvalidInput,
            fmt::format("{}: found no direction into the solid at the reflex corner, vertex {} ({}, {}, {})",
                        domain.description, v, p.x, p.y, p.z));
-    add(p, CellKind::Vertex, in);
+    // The seed sits 1e-7 r inside its vertex, in a random direction around `in`: a symmetric
+    // model would otherwise put corner seeds in exact mirror positions, whose exact ties (a
+    // point equidistant from two of them) the cells could name differently. The offset is far
+    // above round-off and far below anything the mesh resolves.
+    Vec3 q = p + 1e-7 * r * in;
+    for (uint64_t k = 0; k < 16; ++k) {
+      const auto w = rng.words(uint64_t(v), k, 0, 2);
+      const double z = 2 * CounterRng::unit(w[0]) - 1, phi = 2 * M_PI * CounterRng::unit(w[1]);
+      const Vec3 jitter{std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z};
+      const Vec3 cand = p + 1e-7 * r * unit(in + 0.5 * jitter);
+      if (domain.locator->inside(cand)) {
+        q = cand;
+        break;
+      }
+    }
+    add(q, CellKind::Vertex, Vec3{}, on_lines);  // inside already: its own anchor
   }
 
   // 1D random sequential addition to saturation: each dart is uniform on the still uncovered
-  // part of all curves, so it is always accepted (the law of MPS), then its disk is removed.
-  // Gaps shorter than round-off of the coordinates are left: maximal up to round-off.
-  const CounterRng rng(seed, RandomStream::Protection);
+  // part of all lines, so it is always accepted (the law of MPS), then its disk is removed from
+  // its line. Gaps shorter than round-off of the coordinates are left: maximal up to round-off.
   const double crumb = 1e-12 * std::max(r, domain.bounds.diagonal());
   for (uint64_t dart = 0;; ++dart) {
     double total = 0;
@@ -120,21 +167,19 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
       for (auto [u, v] : piece.uncovered) total += v - u;
     }
     if (total <= 0) break;
-    double x = CounterRng::unit(rng.words(dart, 0, 0, 0)[0]) * total;
-    const Piece* hit = nullptr;
+    double x = CounterRng::unit(rng.words(dart, 0, 0, 1)[0]) * total;
+    size_t hit = pieces.size();
     double t = 0;
-    for (const Piece& piece : pieces) {
-      for (auto [u, v] : piece.uncovered) {
+    for (size_t k = 0; k < pieces.size() && hit == pieces.size(); ++k)
+      for (auto [u, v] : pieces[k].uncovered) {
         if (x <= v - u) {
-          hit = &piece, t = std::min(u + x, v);
+          hit = k, t = std::min(u + x, v);
           break;
         }
         x -= v - u;
       }
-      if (hit) break;
-    }
-    if (!hit) break;  // round-off at the very end of the last interval
-    add(hit->a + t * hit->dir, CellKind::Edge, hit->inward);
+    if (hit == pieces.size()) break;  // round-off at the very end of the last interval
+    add(pieces[hit].a + t * pieces[hit].dir, CellKind::Edge, pieces[hit].inward, {line_of_piece[hit]});
   }
   return out;
 }

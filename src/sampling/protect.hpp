@@ -1,8 +1,8 @@
-// Protection of reflex features (paper §2.2): a seed on every end of a reflex feature curve, and
-// each curve maximally Poisson-disk sampled in 1D with r_e = r/sqrt(2). A seed off the curves
-// that keeps distance r from these is then at least r_e from every curve, so every point of a
-// reflex edge is closest to a seed on it: the edge lies inside edge and vertex cells, and the
-// other cells never wrap around it.
+// Protection of reflex edges (paper §2.2): a seed at both ends of every straight run of reflex
+// edges, and each run maximally Poisson-disk sampled in 1D with r_e = r/sqrt(2). A seed off the
+// runs that keeps distance r from two consecutive seeds of a run (at most 2 r_e apart) is at
+// least r_e from the run, so every point of a reflex edge is closest to a seed on it: the edge
+// lies inside edge and vertex cells, and the other cells never wrap around it.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -15,12 +15,13 @@ namespace froth {
 struct ProtectionSeeds {
   std::vector<Vec3> points;
   std::vector<CellKind> kinds;  // Vertex (a curve's end) or Edge
-  // Protection directions: for each seed, a unit vector pointing into the domain from it.
+  // For each seed on the surface, a unit vector pointing into the domain from it; zero for a
+  // seed already inside (vertex seeds sit 1e-7 r inside their vertex).
   std::vector<Vec3> inward;
 };
 
-// A pure function of (domain, r, seed). Seeds on different curves also keep r_e from each other
-// (Euclidean), except curve ends, which are always seeded.
+// A pure function of (domain, r, seed). Seeds of one run keep r_e from each other; seeds of
+// different runs may be closer where runs meet at a small angle (the paper's sharp edges).
 ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed);
 
 }  // namespace froth
