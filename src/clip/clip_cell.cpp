@@ -89,6 +89,98 @@ bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t
   return true;
 }
 
+// In-plane coordinates of p for a plane with unit normal n.
+std::pair<double, double> in_plane(Vec3 p, Vec3 n) {
+  const Vec3 u = std::abs(n.x) < 0.6 ? Vec3{0, -n.z, n.y} : Vec3{-n.y, n.x, 0};
+  const Vec3 uu = (1 / norm(u)) * u, vv = cross(n, uu);
+  return {dot(p, uu), dot(p, vv)};
+}
+
+// Is p inside the polygon `loop` (counter-clockwise about n)? Even-odd rule in the plane.
+bool encloses(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop, Vec3 p, Vec3 n) {
+  const auto [px, py] = in_plane(p, n);
+  bool in = false;
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const auto [ax, ay] = in_plane(pts[loop[k]], n);
+    const auto [bx, by] = in_plane(pts[loop[(k + 1) % loop.size()]], n);
+    if ((ay > py) != (by > py) && px < ax + (py - ay) / (by - ay) * (bx - ax)) in = !in;
+  }
+  return in;
+}
+
+// The vertex of `outer` that hole vertex m sees first along +dir (Eberly, "Triangulation by ear
+// clipping", 2002, §3): the nearer end of the first edge the ray meets, or, if reflex vertices
+// of the outer loop lie in the triangle that spans, the one closest in angle to the ray. -1 if
+// the ray meets nothing.
+int find_bridge(const std::vector<std::pair<double, double>>& o, std::pair<double, double> m, double dir) {
+  const size_t n = o.size();
+  double best = INFINITY;
+  int edge = -1;
+  for (size_t k = 0; k < n; ++k) {
+    auto [ax, ay] = o[k];
+    auto [bx, by] = o[(k + 1) % n];
+    if ((ay > m.second) == (by > m.second)) continue;
+    const double x = (ax + (m.second - ay) / (by - ay) * (bx - ax) - m.first) * dir;
+    if (x > 0 && x < best) best = x, edge = int(k);
+  }
+  if (edge < 0) return -1;
+  const int a = edge, b = int((edge + 1) % n);
+  int p = (o[a].first - o[b].first) * dir > 0 ? a : b;
+  const std::pair<double, double> hit{m.first + dir * best, m.second};
+  auto cross2 = [](auto a, auto b, auto c) {
+    return (b.first - a.first) * (c.second - a.second) - (b.second - a.second) * (c.first - a.first);
+  };
+  const double orient = cross2(m, hit, o[p]);
+  double best_angle = INFINITY;
+  int chosen = p;
+  for (size_t k = 0; k < n; ++k) {
+    if (int(k) == p) continue;
+    const auto q = o[k];
+    if (cross2(o[(k + n - 1) % n], q, o[(k + 1) % n]) >= 0) continue;  // convex vertex
+    const bool inside = orient > 0 ? cross2(m, hit, q) >= 0 && cross2(hit, o[p], q) >= 0 && cross2(o[p], m, q) >= 0
+                                   : cross2(m, hit, q) <= 0 && cross2(hit, o[p], q) <= 0 && cross2(o[p], m, q) <= 0;
+    if (!inside) continue;
+    const double dx = (q.first - m.first) * dir, dy = std::abs(q.second - m.second);
+    const double angle = std::atan2(dy, dx);
+    if (angle < best_angle) best_angle = angle, chosen = int(k);
+  }
+  return chosen;
+}
+
+// Cuts `host` (counter-clockwise) around `hole` (clockwise) along bridges from the hole's
+// extreme vertices in +u and -u to the outer vertices they see; the two pieces replace host in
+// `outer`. False if the bridges cannot be found or share an end.
+bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host, const std::vector<int32_t>& hole,
+                       Vec3 n, std::vector<std::vector<int32_t>>& outer) {
+  std::vector<std::pair<double, double>> o, h;
+  for (int32_t v : host) o.push_back(in_plane(pts[v], n));
+  for (int32_t v : hole) h.push_back(in_plane(pts[v], n));
+  size_t hi = 0, lo = 0;
+  for (size_t k = 1; k < h.size(); ++k) {
+    if (h[k].first > h[hi].first) hi = k;
+    if (h[k].first < h[lo].first) lo = k;
+  }
+  const int p = find_bridge(o, h[hi], 1), q = find_bridge(o, h[lo], -1);
+  if (p < 0 || q < 0 || p == q || hi == lo) return false;
+  // Piece A: host from p to q, then the hole from lo to hi; piece B: host from q to p, then the
+  // hole from hi to lo.
+  auto walk = [](const std::vector<int32_t>& loop, size_t from, size_t to, std::vector<int32_t>& out) {
+    for (size_t k = from;; k = (k + 1) % loop.size()) {
+      out.push_back(loop[k]);
+      if (k == to) break;
+    }
+  };
+  std::vector<int32_t> a, b;
+  walk(host, size_t(p), size_t(q), a);
+  walk(hole, lo, hi, a);
+  walk(host, size_t(q), size_t(p), b);
+  walk(hole, hi, lo, b);
+  if (!(dot(loop_area(pts, a), n) > 0 && dot(loop_area(pts, b), n) > 0)) return false;
+  host = std::move(a);
+  outer.push_back(std::move(b));
+  return true;
+}
+
 }  // namespace
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
@@ -286,9 +378,19 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     loops.clear();
     if (!chain_loops(kept, loops))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
-    for (auto& loop : loops) {
-      if (dot(loop_area(pts, loop), domain_.planes[-facet - 1].normal) <= 0)
-        return fail_with(fmt::format("the border face on facet plane {} has a hole (a feature smaller than r)", -facet - 1));
+    const Vec3 normal = domain_.planes[-facet - 1].normal;
+    std::vector<std::vector<int32_t>> outer, holes;
+    for (auto& loop : loops) (dot(loop_area(pts, loop), normal) > 0 ? outer : holes).push_back(std::move(loop));
+    for (auto& hole : holes) {
+      // A facet with a hole inside the cell (a hole or pillar of the domain narrower than r):
+      // a polygon with a hole is no VTK face, so the face is cut in two along two bridges.
+      auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], normal); });
+      if (host == outer.end() || !split_around_hole(pts, *host, hole, normal, outer))
+        return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
+                                     "much smaller than r)",
+                                     -facet - 1));
+    }
+    for (auto& loop : outer) {
       face_gen.push_back(facet);
       faces.push_back(std::move(loop));
     }
