@@ -29,6 +29,7 @@ struct SurfaceLocator::Impl {
   std::unique_ptr<Tree> tree;
   std::unique_ptr<Side> side;
   std::vector<Point> points;
+  std::vector<CGAL::Bbox_3> boxes;  // per triangle
 };
 
 SurfaceLocator::SurfaceLocator(const TriangleSurface& surface) : surface_(surface), impl_(std::make_unique<Impl>()) {
@@ -47,6 +48,10 @@ SurfaceLocator::SurfaceLocator(const TriangleSurface& surface) : surface_(surfac
                        "(first at ({}, {}, {})) is shared by two sheets that only touch there",
                        t, a, b, c, p.x, p.y, p.z));
     }
+  }
+  for (auto [a, b, c] : surface.triangles) {
+    const auto& P = impl_->points;
+    impl_->boxes.push_back(P[a].bbox() + P[b].bbox() + P[c].bbox());
   }
   impl_->tree = std::make_unique<Tree>(faces(m).first, faces(m).second, m);
   impl_->tree->build();
@@ -74,6 +79,10 @@ void SurfaceLocator::triangles_near(Vec3 lo, Vec3 hi, std::vector<int32_t>& out)
 }
 
 bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
+  const CGAL::Bbox_3& tb = impl_->boxes[t];
+  if (tb.xmax() < lo.x || tb.xmin() > hi.x || tb.ymax() < lo.y || tb.ymin() > hi.y || tb.zmax() < lo.z ||
+      tb.zmin() > hi.z)
+    return false;
   const auto& P = impl_->points;
   auto [a, b, c] = surface_.triangles[t];
   return CGAL::do_intersect(Kernel::Triangle_3(P[a], P[b], P[c]),

@@ -252,20 +252,36 @@ class Sampler {
     return inside_domain(lo + Vec3{h / 2, h / 2, h / 2}, base) ? 1 : -1;
   }
 
-  // Non-convex domains: -1, 0 or 1 as classify_box, by the triangles that meet the box (`cut`
-  // receives them): none means the box is on one side of the surface, found at its centre.
-  int classify_box_by_surface(Vec3 lo, double h, std::vector<int32_t>& near, std::vector<int32_t>* cut) const {
+  // Non-convex domains: -1, 0 or 1 as classify_box, by which of `candidates` meet the box
+  // (`cut` receives them). None means the box is on one side of the surface: that of its centre,
+  // by parity from `ref` (a point of known side whose segment to the centre only candidates can
+  // cross), or by the whole surface.
+  struct Reference { Vec3 p; bool inside; };
+  int classify_box_by_surface(Vec3 lo, double h, std::span<const int32_t> candidates, std::vector<int32_t>* cut,
+                              const Reference* ref) const {
     const Vec3 hi = lo + Vec3{h, h, h};
-    domain_.locator->triangles_near(lo, hi, near);
     bool any = false;
-    for (int32_t t : near)
+    for (int32_t t : candidates)
       if (domain_.locator->triangle_meets_box(t, lo, hi)) {
         any = true;
         if (!cut) break;
         cut->push_back(t);
       }
     if (any) return 0;
-    return domain_.locator->inside(lo + Vec3{h / 2, h / 2, h / 2}) ? 1 : -1;
+    const Vec3 c = lo + Vec3{h / 2, h / 2, h / 2};
+    bool in;
+    if (!ref || !domain_.locator->side_from(ref->p, ref->inside, c, candidates, in)) in = domain_.locator->inside(c);
+    return in ? 1 : -1;
+  }
+
+  // A point near `p` off the surface, and its side.
+  Reference reference_near(Vec3 p, double h) const {
+    int side = domain_.locator->side(p);
+    for (int n = 1; side == 0; ++n) {
+      p = p + Vec3{h * 0.037, -h * 0.029, h * 0.011};
+      side = domain_.locator->side(p);
+    }
+    return {p, side > 0};
   }
 
   // Base cubes not outside the domain, and for those cut by the boundary the planes that cut
@@ -287,9 +303,13 @@ class Sampler {
       std::vector<int32_t> block_cut, cube_cut, near;
       // The block as a cube of side B * side (it may stick out of the grid: harmless).
       const Vec3 block_lo = g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side};
-      int cls = convex ? classify_box(block_lo, B * g.side, all, &block_cut)
-                       : classify_box_by_surface(block_lo, B * g.side, near, nullptr);
+      const double bh = B * g.side;
+      if (!convex) domain_.locator->triangles_near(block_lo, block_lo + Vec3{bh, bh, bh}, near);
+      int cls = convex ? classify_box(block_lo, bh, all, &block_cut)
+                       : classify_box_by_surface(block_lo, bh, near, &block_cut, nullptr);
       if (cls < 0) continue;
+      Reference block_ref{};
+      if (!convex && cls == 0) block_ref = reference_near(block_lo + Vec3{bh / 2, bh / 2, bh / 2}, g.side);
       for (int k = k0; k < std::min(k0 + B, g.nz); ++k)
         for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
           for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
@@ -297,7 +317,7 @@ class Sampler {
             cube_cut.clear();
             int c = cls > 0 ? 1
                     : convex ? classify_box(base_origin(b), g.side, block_cut, &cube_cut)
-                             : classify_box_by_surface(base_origin(b), g.side, near, &cube_cut);
+                             : classify_box_by_surface(base_origin(b), g.side, block_cut, &cube_cut, &block_ref);
             if (c < 0) continue;
             cubes[blk].push_back({b, 0, 0, c > 0 ? ActiveCube::kInside : 0});
             for (int32_t id : cube_cut) cuts[blk].push_back({b, id});
@@ -321,13 +341,7 @@ class Sampler {
 #pragma omp parallel for schedule(dynamic, 64)
       for (size_t k = 0; k < boundary_base_.size(); ++k) {
         const double h = g.side;
-        Vec3 p = base_origin(boundary_base_[k]) + Vec3{h / 2, h / 2, h / 2};
-        int side = domain_.locator->side(p);
-        for (int n = 1; side == 0; ++n) {
-          p = base_origin(boundary_base_[k]) + Vec3{h * 0.5 + h * 0.037 * n, h * 0.5 - h * 0.029 * n, h * 0.5 + h * 0.011 * n};
-          side = domain_.locator->side(p);
-        }
-        boundary_ref_[k] = {p, side > 0};
+        boundary_ref_[k] = reference_near(base_origin(boundary_base_[k]) + Vec3{h / 2, h / 2, h / 2}, h);
       }
     }
     return concatenate(cubes);
@@ -560,7 +574,6 @@ class Sampler {
   // Boundary base cubes (sorted) and, for each, the domain planes that cut it.
   std::vector<uint32_t> boundary_base_, boundary_begin_;
   std::vector<int32_t> boundary_planes_;
-  struct Reference { Vec3 p; bool inside; };
   std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
   double r_, r2_;
   CounterRng rng_;
