@@ -47,7 +47,15 @@ double weld_tolerance(double weld, double r) { return weld < 0 ? 1e-4 * r : weld
 // The summary's sentences on features, welding and quality.
 std::string details_sentence(const froth::RunReport& run) {
   const froth::FeatureSummary& f = run.features;
+  const auto& input = run.input;
   std::string out = fmt::format(
+      " Input: {} triangles, {} shell{} ({} cavit{}), {}{}.", input.triangles, input.shells, input.shells == 1 ? "" : "s",
+      input.cavities, input.cavities == 1 ? "y" : "ies", input.convex ? "convex" : "non-convex: cells clipped to the surface",
+      input.reoriented_triangles ? fmt::format("; --repair reoriented {} triangles", input.reoriented_triangles) : "");
+  if (run.sampling.edge_seeds + run.sampling.vertex_seeds > 0)
+    out += fmt::format(" Protection: {} vertex and {} edge seeds on the reflex edges (r_e = r/sqrt(2)).",
+                       run.sampling.vertex_seeds, run.sampling.edge_seeds);
+  out += fmt::format(
       " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges ({} of them "
       "concave).",
       f.angle_degrees, f.convex_edges, f.reflex_edges, f.curves, f.corners, f.flat_edges, f.flat_reflex_edges);

@@ -118,6 +118,11 @@ struct RunReport {
   double weld = 0;
   int threads = 0;
   FeatureSummary features;  // of the input surface
+  struct Input {
+    bool convex = true;
+    size_t triangles = 0, shells = 0, cavities = 0;
+    size_t reoriented_triangles = 0;  // by --repair
+  } input;
   SamplingStats sampling;
   size_t cells = 0, interior_cells = 0, fringe_cells = 0, edge_cells = 0, vertex_cells = 0;
   double border_area = 0;  // area of the border faces, to compare with the surface's

@@ -19,6 +19,11 @@ std::string report_json_text(const RunReport& run) {
                    {"convex_edges", f.convex_edges},   {"reflex_edges", f.reflex_edges},
                    {"curves", f.curves},               {"convex_curves", f.convex_curves},
                    {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};
+  j["input"]["convex"] = run.input.convex;
+  j["input"]["triangles"] = run.input.triangles;
+  j["input"]["shells"] = run.input.shells;
+  j["input"]["cavities"] = run.input.cavities;
+  j["input"]["reoriented_triangles"] = run.input.reoriented_triangles;
   const auto& s = run.sampling;
   j["sampling"] = {{"seeds", s.seeds},
                    {"edge_seeds", s.edge_seeds},

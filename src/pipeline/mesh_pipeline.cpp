@@ -71,6 +71,8 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   run.weld = opt.weld;
   run.threads = omp_get_max_threads();
   run.domain_volume = domain.volume;
+  run.input = {domain.convex, domain.surface.triangles.size(), domain.shells, domain.cavities,
+               domain.reoriented_triangles};
   run.surface_area = domain.surface_area;
   run.features = domain.features;
 

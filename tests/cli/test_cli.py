@@ -140,6 +140,38 @@ check(abs(vv.sum() - report["volume"]["cells_sum"]) <= 1e-9 * vv.sum(),
 check(np.allclose(vv, vtk_to_numpy(g.GetCellData().GetArray("volume")), rtol=1e-9, atol=0), "welded: cell volumes")
 check(np.all(vv > 0), "welded: a cell VTK reads has no positive volume")
 
+# Non-convex domains end to end: the Fichera corner (reflex edges protected: edge and vertex
+# cells) and the hollow sphere (a cavity found by nesting); VTK reads the clipped, partly
+# non-convex polyhedra and their volumes sum to the enclosed volume; border faces lie on the
+# input surface's planes. --repair meshes multibody.stl after reorienting it.
+for name, args, kinds_wanted in [("fichera", [os.path.join(MODELS, "7_8ths_cube.stl"), "-r", "3"], {0, 1, 2, 3}),
+                                 ("hollow", [os.path.join(MODELS, "hollow_sphere.off"), "-r", "0.06"], {0, 1}),
+                                 ("repaired", [os.path.join(MODELS, "multibody.stl"), "-r", "0.05", "--repair"], {1})]:
+    out, rep = os.path.join(tmp, name + ".vtu"), os.path.join(tmp, name + ".json")
+    p = froth("mesh", *args, "--seed", "3", "-o", out, "--report", rep, "--weld", "0")
+    check(p.returncode == 0, f"{name}: exit code {p.returncode}: {p.stderr}")
+    report = json.load(open(rep))
+    check(not report["input"]["convex"], f"{name}: input not reported non-convex")
+    g = read_vtk(out)
+    cells = report["mesh"]["cells"]
+    check(g.GetNumberOfCells() == cells, f"{name}: VTK reads {g.GetNumberOfCells()} cells of {cells}")
+    kind = vtk_to_numpy(g.GetCellData().GetArray("kind"))
+    check(kinds_wanted <= set(np.unique(kind)), f"{name}: kinds {np.unique(kind)}, wanted {kinds_wanted}")
+    vv = vtk_volumes(g)
+    check(abs(vv.sum() - report["volume"]["domain"]) <= 1e-9 * report["volume"]["domain"],
+          f"{name}: VTK total volume {vv.sum()} vs {report['volume']['domain']}")
+    check(abs(report["border_area"]["border_faces"] - report["border_area"]["surface"])
+          <= 1e-9 * report["border_area"]["surface"], f"{name}: border area {report['border_area']}")
+    if name == "hollow":
+        check(report["input"]["cavities"] == 1 and report["input"]["shells"] == 2, f"{name}: {report['input']}")
+        check(abs(report["volume"]["domain"] - 4 / 3 * np.pi * (0.5 ** 3 - 0.4 ** 3)) < 0.02, f"{name}: volume")
+    if name == "fichera":
+        s = report["sampling"]
+        check(s["vertex_seeds"] == 4 and s["edge_seeds"] > 0, f"{name}: protection seeds {s}")
+    if name == "repaired":
+        check(report["input"]["reoriented_triangles"] > 0, f"{name}: {report['input']}")
+        check("reoriented" in p.stdout, f"{name}: the summary does not mention the repair")
+
 # Byte-identical for 1 and 2 threads; another seed differs.
 outs = []
 for threads, seed in [(1, 5), (2, 5), (2, 6)]:
