@@ -89,25 +89,27 @@ bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
                             Kernel::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)));
 }
 
-int SurfaceLocator::segment_crossing(Vec3 a, Vec3 b, int32_t t) const {
-  const auto& P = impl_->points;
-  auto [i, j, k] = surface_.triangles[t];
-  const Point pa = to_cgal(a), pb = to_cgal(b);
-  const auto oa = CGAL::orientation(P[i], P[j], P[k], pa), ob = CGAL::orientation(P[i], P[j], P[k], pb);
+int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r) {
+  const Point P = to_cgal(p), Q = to_cgal(q), R = to_cgal(r), pa = to_cgal(a), pb = to_cgal(b);
+  const auto oa = CGAL::orientation(P, Q, R, pa), ob = CGAL::orientation(P, Q, R, pb);
   if (oa == CGAL::COPLANAR || ob == CGAL::COPLANAR) {
     // An end on the plane: degenerate only if it lies in the (closed) triangle.
-    const Point& on = oa == CGAL::COPLANAR ? pa : pb;
-    return Kernel::Triangle_3(P[i], P[j], P[k]).has_on(on) ? -1 : 0;
+    return Kernel::Triangle_3(P, Q, R).has_on(oa == CGAL::COPLANAR ? pa : pb) ? -1 : 0;
   }
   if (oa == ob) return 0;
   // The segment crosses the plane; it crosses the triangle if it passes each edge on the same side.
-  const auto s0 = CGAL::orientation(pa, pb, P[i], P[j]), s1 = CGAL::orientation(pa, pb, P[j], P[k]),
-             s2 = CGAL::orientation(pa, pb, P[k], P[i]);
+  const auto s0 = CGAL::orientation(pa, pb, P, Q), s1 = CGAL::orientation(pa, pb, Q, R),
+             s2 = CGAL::orientation(pa, pb, R, P);
   const bool has_pos = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
   const bool has_neg = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
   if (has_pos && has_neg) return 0;
   if (s0 == CGAL::ZERO || s1 == CGAL::ZERO || s2 == CGAL::ZERO) return -1;
   return 1;
+}
+
+int SurfaceLocator::segment_crossing(Vec3 a, Vec3 b, int32_t t) const {
+  auto [i, j, k] = surface_.triangles[t];
+  return froth::segment_crossing(a, b, surface_.vertices[i], surface_.vertices[j], surface_.vertices[k]);
 }
 
 std::optional<std::pair<int32_t, int32_t>> SurfaceLocator::first_self_intersection() const {

@@ -12,6 +12,10 @@
 
 namespace froth {
 
+// Does the segment [a, b] cross triangle (p, q, r)? 1 yes, 0 no, -1 degenerate (it touches an
+// edge or a vertex of the triangle, or an end lies in it). Exact.
+int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r);
+
 class SurfaceLocator {
  public:
   // `surface` must be closed and free of self-intersections (validated); shells may nest.

@@ -75,28 +75,18 @@ Domain parse_box_spec(const std::string& spec) {
 
 namespace {
 
-// Counts, for the ray from p along `dir`, the crossings with triangles outside component `skip`;
-// nullopt when the ray grazes an edge or a vertex (the caller tries another direction).
+// Counts the crossings of the segment from p to `far` (beyond the surface) with the triangles
+// outside component `skip`; nullopt when it grazes an edge or a vertex (the caller tries
+// another direction).
 std::optional<size_t> crossings(const TriangleSurface& s, const std::vector<int32_t>& component, int32_t skip, Vec3 p,
                                 Vec3 far) {
-  const Point a = to_cgal(p), b = to_cgal(far);
   size_t n = 0;
   for (size_t t = 0; t < s.triangles.size(); ++t) {
     if (component[t] == skip) continue;
     auto [i, j, k] = s.triangles[t];
-    const Point P = to_cgal(s.vertices[i]), Q = to_cgal(s.vertices[j]), R = to_cgal(s.vertices[k]);
-    const auto oa = CGAL::orientation(P, Q, R, a), ob = CGAL::orientation(P, Q, R, b);
-    if (oa == ob && oa != CGAL::COPLANAR) continue;
-    if (oa == CGAL::COPLANAR || ob == CGAL::COPLANAR) {
-      if (Kernel::Triangle_3(P, Q, R).has_on(oa == CGAL::COPLANAR ? a : b)) return std::nullopt;
-      continue;
-    }
-    const auto s0 = CGAL::orientation(a, b, P, Q), s1 = CGAL::orientation(a, b, Q, R), s2 = CGAL::orientation(a, b, R, P);
-    const bool pos = s0 == CGAL::POSITIVE || s1 == CGAL::POSITIVE || s2 == CGAL::POSITIVE;
-    const bool neg = s0 == CGAL::NEGATIVE || s1 == CGAL::NEGATIVE || s2 == CGAL::NEGATIVE;
-    if (pos && neg) continue;
-    if (s0 == CGAL::ZERO || s1 == CGAL::ZERO || s2 == CGAL::ZERO) return std::nullopt;
-    ++n;
+    const int c = segment_crossing(p, far, s.vertices[i], s.vertices[j], s.vertices[k]);
+    if (c < 0) return std::nullopt;
+    n += size_t(c);
   }
   return n;
 }
