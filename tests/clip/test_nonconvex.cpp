@@ -214,6 +214,22 @@ TEST_P(NonConvex, GuaranteesHold) {
   EXPECT_EQ(run.quality->lemma6_interior_violations, 0u);
 }
 
+// The same mesh for 1 and 2 threads, protection seeds and clipped cells included.
+TEST(NonConvexDeterminism, ThreadCountDoesNotMatter) {
+  for (const char* name : {"7_8ths_cube.stl", "hollow_sphere.off", "I-beam"}) {
+    const Domain d = shape(name);
+    const double r = d.bounds.diagonal() / 30;
+    const PolyMesh a = test::mesh_of(d, r, 9, 1), b = test::mesh_of(d, r, 9, 2);
+    EXPECT_EQ(a.seeds.size(), b.seeds.size()) << name;
+    EXPECT_TRUE(std::equal(a.seeds.begin(), a.seeds.end(), b.seeds.begin(), b.seeds.end())) << name;
+    EXPECT_TRUE(std::equal(a.points.begin(), a.points.end(), b.points.begin(), b.points.end())) << name;
+    EXPECT_TRUE(std::equal(a.face_vertices.begin(), a.face_vertices.end(), b.face_vertices.begin(),
+                           b.face_vertices.end()))
+        << name;
+    EXPECT_TRUE(std::equal(a.kinds.begin(), a.kinds.end(), b.kinds.begin(), b.kinds.end())) << name;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Shapes, NonConvex,
     testing::Values(Case{"L-block", 1.0 / 20, 1}, Case{"L-block", 1.0 / 40, 2}, Case{"I-beam", 1.0 / 20, 1},
