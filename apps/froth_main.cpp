@@ -234,10 +234,10 @@ int run_quality(const QualityArgs& a) {
   for (auto n : q.cells) cells += n;
   const auto& in = q.aspect[0];
   fmt::print(
-      "froth: {}: {} polyhedral cells ({} interior, {} fringe); {}. Interior aspect ratio {:.3f} to {:.3f} (mean "
+      "froth: {}: {} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex); {}. Interior aspect ratio {:.3f} to {:.3f} (mean "
       "{:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, shortest edge {:.3g}; interior cells beyond Theorem 1: "
       "{}, beyond Lemma 6: {} interior, {} border-interior.{}{}\n",
-      a.input, cells, q.cells[0], q.cells[1],
+      a.input, cells, q.cells[0], q.cells[1], q.cells[2], q.cells[3],
       check.ok() ? "every cell closed, every shared face matched"
                  : fmt::format("NOT VALID: {} open cells, {} unmatched faces, {} cells of non-positive volume (first: {})",
                                check.open_cells, check.unmatched_faces, check.nonpositive_cells, check.first_problem),

@@ -39,6 +39,10 @@ struct CellScratch {
   std::vector<EdgeUse> edges;
 };
 
+// Lemma 6's half-angle where protection seeds r_e = r/sqrt(2) apart make it: sin(theta) >= sqrt(2)/4
+// (paper §3.2), 20.7 degrees, instead of 30.
+const double kProtectedTheta = std::asin(std::sqrt(2.0) / 4) * 180 / M_PI;
+
 struct Dihedral {
   double degrees;
   DihedralClass cls;
@@ -126,13 +130,12 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
 // the seeds that make the angle are protection seeds r_e = r/sqrt(2) apart it has
 // sin(theta) >= sqrt(2)/4 instead (paper §3.2), so theta >= 20.7 degrees.
 CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedral>& angles) {
-  static const double relaxed_theta = std::asin(std::sqrt(2.0) / 4) * 180 / M_PI;
   CellVerdict v;
   v.q = q;
   const bool interior = kind == CellKind::Interior;
   v.theorem1 = interior && !(q.aspect <= kTheorem1Aspect);
   for (const Dihedral& d : angles) {
-    const double theta = d.relaxed ? relaxed_theta : 30;
+    const double theta = d.relaxed ? kProtectedTheta : 30;
     if (d.cls == DihedralClass::InteriorInterior && interior)
       v.lemma6_interior |= d.degrees < 60 - kAngleSlack || d.degrees > 180 - theta + kAngleSlack;
     if (d.cls == DihedralClass::BorderInterior)
@@ -286,6 +289,7 @@ std::string quality_json_text(const QualityReport& q) {
   j["bounds"] = {{"theorem1_interior_aspect_max", 2.0},
                  {"lemma6_interior_dihedral_degrees", {60.0, 150.0}},
                  {"lemma6_border_interior_dihedral_degrees", {30.0, 150.0}},
+                 {"lemma6_protected_theta_degrees", kProtectedTheta},
                  {"theorem1_violations", q.theorem1_violations},
                  {"lemma6_interior_violations", q.lemma6_interior_violations},
                  {"lemma6_border_violations", q.lemma6_border_violations}};
