@@ -28,15 +28,18 @@ class SeedBuckets {
     n_[0] = std::max(1, int(std::ceil(s.x / r)));
     n_[1] = std::max(1, int(std::ceil(s.y / r)));
     n_[2] = std::max(1, int(std::ceil(s.z / r)));
-    buckets_.assign(size_t(n_[0]) * n_[1] * n_[2], Bucket{});
-    counts_.assign(buckets_.size(), 0);
+    slot_.assign(size_t(n_[0]) * n_[1] * n_[2], -1);
   }
 
   void insert(int32_t id, Vec3 p) {
     int i = axis(p.x - origin_.x, 0), j = axis(p.y - origin_.y, 1), k = axis(p.z - origin_.z, 2);
     const size_t at = index(i, j, k);
-    Bucket& b = buckets_[at];
-    uint8_t& n = counts_[at];
+    if (slot_[at] < 0) {
+      slot_[at] = int32_t(buckets_.size());
+      buckets_.emplace_back();
+    }
+    Bucket& b = buckets_[slot_[at]];
+    uint8_t& n = b.count;
     if (n >= kCapacity) {
       n = kCapacity + 1;
       auto it = std::upper_bound(overflow_.begin(), overflow_.end(), at,
@@ -74,14 +77,15 @@ class SeedBuckets {
         if (gyz > reach2_bucket) continue;
         const size_t row = index(0, j, k);
         for (int i = a[0]; i <= b[0]; ++i) {
-          const int count = std::min<int>(counts_[row + i], kCapacity);
-          if (count == 0 || gyz + gap(i, 0) > reach2_bucket) continue;
-          if (counts_[row + i] > kCapacity) {
+          const int32_t slot = slot_[row + i];
+          if (slot < 0 || gyz + gap(i, 0) > reach2_bucket) continue;
+          const Bucket& bk = buckets_[slot];
+          const int count = std::min<int>(bk.count, kCapacity);
+          if (bk.count > kCapacity) {
             auto it = std::lower_bound(overflow_.begin(), overflow_.end(), row + i,
                                        [](const Overflow& o, size_t a) { return o.bucket < a; });
             for (; it != overflow_.end() && it->bucket == row + i; ++it) f(it->id);
           }
-          const Bucket& bk = buckets_[row + i];
           const Vec3 c = corner(i, j, k);
           const float lx = float(lo.x - c.x), ly = float(lo.y - c.y), lz = float(lo.z - c.z);
           const float hx = float(hi.x - c.x), hy = float(hi.y - c.y), hz = float(hi.z - c.z);
@@ -101,6 +105,7 @@ class SeedBuckets {
   struct Bucket {
     float x[kCapacity], y[kCapacity], z[kCapacity];
     int32_t id[kCapacity];
+    uint8_t count = 0;  // kCapacity + 1: more in the overflow list
   };
   Vec3 corner(int i, int j, int k) const { return origin_ + Vec3{i * side_, j * side_, k * side_}; }
   int axis(double t, int d) const { return std::clamp(int(std::floor(t / side_)), 0, n_[d] - 1); }
@@ -109,8 +114,10 @@ class SeedBuckets {
   Vec3 origin_;
   double side_ = 1;
   int n_[3] = {1, 1, 1};
+  // Buckets are allocated as seeds arrive: a domain may fill a small part of its bounding box
+  // (a slanted slab), and most buckets of the box then stay empty.
+  std::vector<int32_t> slot_;  // per bucket of the box: its index in buckets_, or -1
   std::vector<Bucket> buckets_;
-  std::vector<uint8_t> counts_;  // apart from the payload: most buckets are empty; 9 = overflowed
   struct Overflow {
     size_t bucket;
     int32_t id;
