@@ -89,11 +89,18 @@ bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t
   return true;
 }
 
+using Point2 = std::pair<double, double>;
+
 // In-plane coordinates of p for a plane with unit normal n.
-std::pair<double, double> in_plane(Vec3 p, Vec3 n) {
+Point2 in_plane(Vec3 p, Vec3 n) {
   const Vec3 u = std::abs(n.x) < 0.6 ? Vec3{0, -n.z, n.y} : Vec3{-n.y, n.x, 0};
   const Vec3 uu = (1 / norm(u)) * u, vv = cross(n, uu);
   return {dot(p, uu), dot(p, vv)};
+}
+
+// Twice the signed area of the triangle (a, b, c) in the plane.
+double cross2(Point2 a, Point2 b, Point2 c) {
+  return (b.first - a.first) * (c.second - a.second) - (b.second - a.second) * (c.first - a.first);
 }
 
 // Is p inside the polygon `loop` (counter-clockwise about n)? Even-odd rule in the plane.
@@ -112,7 +119,7 @@ bool encloses(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop, Ve
 // clipping", 2002, §3): the nearer end of the first edge the ray meets, or, if reflex vertices
 // of the outer loop lie in the triangle that spans, the one closest in angle to the ray. -1 if
 // the ray meets nothing.
-int find_bridge(const std::vector<std::pair<double, double>>& o, std::pair<double, double> m, double dir) {
+int find_bridge(const std::vector<Point2>& o, Point2 m, double dir) {
   const size_t n = o.size();
   double best = INFINITY;
   int edge = -1;
@@ -126,10 +133,7 @@ int find_bridge(const std::vector<std::pair<double, double>>& o, std::pair<doubl
   if (edge < 0) return -1;
   const int a = edge, b = int((edge + 1) % n);
   int p = (o[a].first - o[b].first) * dir > 0 ? a : b;
-  const std::pair<double, double> hit{m.first + dir * best, m.second};
-  auto cross2 = [](auto a, auto b, auto c) {
-    return (b.first - a.first) * (c.second - a.second) - (b.second - a.second) * (c.first - a.first);
-  };
+  const Point2 hit{m.first + dir * best, m.second};
   const double orient = cross2(m, hit, o[p]);
   double best_angle = INFINITY;
   int chosen = p;
@@ -151,8 +155,8 @@ int find_bridge(const std::vector<std::pair<double, double>>& o, std::pair<doubl
 // extreme vertices in +u and -u to the outer vertices they see; the two pieces replace host in
 // `outer`. False if the bridges cannot be found or share an end.
 bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host, const std::vector<int32_t>& hole,
-                       Vec3 n, std::vector<std::vector<int32_t>>& outer) {
-  std::vector<std::pair<double, double>> o, h;
+                       const std::vector<std::vector<int32_t>>& holes, Vec3 n, std::vector<std::vector<int32_t>>& outer) {
+  std::vector<Point2> o, h;
   for (int32_t v : host) o.push_back(in_plane(pts[v], n));
   for (int32_t v : hole) h.push_back(in_plane(pts[v], n));
   size_t hi = 0, lo = 0;
@@ -162,6 +166,18 @@ bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host,
   }
   const int p = find_bridge(o, h[hi], 1), q = find_bridge(o, h[lo], -1);
   if (p < 0 || q < 0 || p == q || hi == lo) return false;
+  // The bridges see past this hole only; another hole of the same face must not be in the way.
+  auto crosses = [&](Point2 a, Point2 b, Point2 c,
+                     Point2 d) {
+    return (cross2(a, b, c) > 0) != (cross2(a, b, d) > 0) && (cross2(c, d, a) > 0) != (cross2(c, d, b) > 0);
+  };
+  for (const auto& other : holes) {
+    if (&other == &hole) continue;
+    for (size_t k = 0; k < other.size(); ++k) {
+      const auto c = in_plane(pts[other[k]], n), d = in_plane(pts[other[(k + 1) % other.size()]], n);
+      if (crosses(h[hi], o[p], c, d) || crosses(h[lo], o[q], c, d)) return false;
+    }
+  }
   // Piece A: host from p to q, then the hole from lo to hi; piece B: host from q to p, then the
   // hole from hi to lo.
   auto walk = [](const std::vector<int32_t>& loop, size_t from, size_t to, std::vector<int32_t>& out) {
@@ -385,7 +401,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       // A facet with a hole inside the cell (a hole or pillar of the domain narrower than r):
       // a polygon with a hole is no VTK face, so the face is cut in two along two bridges.
       auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], normal); });
-      if (host == outer.end() || !split_around_hole(pts, *host, hole, normal, outer))
+      if (host == outer.end() || !split_around_hole(pts, *host, hole, holes, normal, outer))
         return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
                                      "much smaller than r)",
                                      -facet - 1));
