@@ -1,6 +1,7 @@
-// Cells are cut from a cube around each seed by the domain's facet planes and the bisectors of
-// the seeds in the grid stencil (Voronoi neighbours are at most 2r apart: paper §2.3, Lemma 1),
-// nearest first, until the security radius shows no farther seed can cut.
+// Cells are cut from a cube around each seed by a convex domain's facet planes and the bisectors
+// of the seeds in the grid stencil (Voronoi neighbours are at most 2r apart: paper §2.3, Lemma 1),
+// nearest first, until the security radius shows no farther seed can cut. In a non-convex
+// domain the cell is cut by bisectors only, then clipped to the surface if it meets it.
 //
 // Conformity: a vertex's name is the sorted set of its generators plus the cell's own seed
 // ({a,b,c,d} for a Voronoi vertex, {a,b,P,Q} on a domain edge, ...). Every cell that has the

@@ -1,4 +1,5 @@
-// Every seed's Voronoi cell, clipped to the convex domain, assembled into one conforming mesh.
+// Every seed's Voronoi cell, cut by a convex domain's planes or clipped to any other domain's surface
+// (src/clip), assembled into one conforming mesh.
 #pragma once
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
