@@ -50,7 +50,7 @@ struct Dihedral {
 };
 
 bool is_protection_seed(const PolyMesh& m, int32_t generator) {
-  return generator >= 0 && m.kinds[generator] >= CellKind::Edge;
+  return generator >= 0 && size_t(generator) < m.kinds.size() && m.kinds[generator] >= CellKind::Edge;
 }
 
 // Fills everything but the summary; `angles` receives each edge's dihedral.
