@@ -52,7 +52,12 @@ struct CellChunk {
   PagedVector<uint32_t> face_begin{0};       // per cell, into face_gen
   PagedVector<int32_t> face_gen;
   PagedVector<uint8_t> face_size;
-  PagedVector<uint16_t> face_vert;           // local vertex ids (clipped cells can exceed 255)
+  // Local vertex ids in bytes; a chunk switches to 16 bits once a (clipped) cell has more than
+  // 256 vertices, so convex domains keep the byte's memory.
+  PagedVector<uint8_t> face_vert;
+  PagedVector<uint16_t> face_vert_wide;
+  bool wide = false;
+  uint16_t local_vertex(size_t k) const { return wide ? face_vert_wide[k] : face_vert[k]; }
   PagedVector<CellKind> kinds;
   size_t face_vertex_count = 0;
 
@@ -73,8 +78,8 @@ struct CellChunk {
 
   void release_private() {
     for (auto* v : {&vertex_begin, &face_begin}) PagedVector<uint32_t>().swap(*v);
-    for (auto* v : {&vertex_info, &face_size}) PagedVector<uint8_t>().swap(*v);
-    PagedVector<uint16_t>().swap(face_vert);
+    for (auto* v : {&vertex_info, &face_size, &face_vert}) PagedVector<uint8_t>().swap(*v);
+    PagedVector<uint16_t>().swap(face_vert_wide);
     PagedVector<int32_t>().swap(other_keys);
     PagedVector<int32_t>().swap(face_gen);
     PagedVector<Vec3>().swap(owned_points);
@@ -207,13 +212,19 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
       ch.other_keys.insert(ch.other_keys.end(), key, key + n);
     }
   }
+  if (!ch.wide && cell.vertex_count() > 256) {
+    ch.face_vert_wide.assign(ch.face_vert.begin(), ch.face_vert.end());
+    PagedVector<uint8_t>().swap(ch.face_vert);
+    ch.wide = true;
+  }
   for (size_t f = 0; f < cell.face_count(); ++f) {
     int32_t g = cell.face_generator(f);
     fringe |= is_border_generator(g);
     ch.face_gen.push_back(g);
     ch.face_size.push_back(uint8_t(cell.face_size(f)));
     const uint16_t* fv = cell.face_begin(f);
-    for (size_t k = 0; k < cell.face_size(f); ++k) ch.face_vert.push_back(fv[k]);
+    for (size_t k = 0; k < cell.face_size(f); ++k)
+      ch.wide ? ch.face_vert_wide.push_back(fv[k]) : ch.face_vert.push_back(uint8_t(fv[k]));
     ch.face_vertex_count += cell.face_size(f);
   }
   ch.kinds.push_back(protection ? protection->kind : fringe ? CellKind::Fringe : CellKind::Interior);
@@ -337,7 +348,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         for (uint32_t f = ch.face_begin[k]; f < ch.face_begin[k + 1]; ++f) {
           mesh.face_generator[face] = ch.face_gen[f];
           mesh.face_vertex_begin[face] = fv;
-          for (int s = 0; s < ch.face_size[f]; ++s) mesh.face_vertices[fv++] = gid[ch.face_vert[local_fv++]];
+          for (int s = 0; s < ch.face_size[f]; ++s) mesh.face_vertices[fv++] = gid[ch.local_vertex(local_fv++)];
           ++face;
         }
       }
