@@ -52,6 +52,11 @@ std::string details_sentence(const froth::RunReport& run) {
       " Input: {} triangles, {} shell{} ({} cavit{}), {}{}.", input.triangles, input.shells, input.shells == 1 ? "" : "s",
       input.cavities, input.cavities == 1 ? "y" : "ies", input.convex ? "convex" : "non-convex: cells clipped to the surface",
       input.reoriented_triangles ? fmt::format("; --repair reoriented {} triangles", input.reoriented_triangles) : "");
+  if (run.not_star_shaped > 0)
+    out += fmt::format(" {} cells are not star-shaped from their seed (a face plane up to {:.3g} r beyond it): such cells "
+                       "lie along concave curved surfaces, whose flat reflex edges are not protected, or where "
+                       "features are closer than r.",
+                       run.not_star_shaped, run.star_violation);
   if (run.sampling.edge_seeds + run.sampling.vertex_seeds > 0)
     out += fmt::format(" Protection: {} vertex and {} edge seeds on the reflex edges (r_e = r/sqrt(2)).",
                        run.sampling.vertex_seeds, run.sampling.edge_seeds);

@@ -25,4 +25,12 @@ double cell_volume(const PolyMesh& mesh, size_t c);
 // Total area of the border faces (Newell), which must equal the domain's surface area.
 double border_area(const PolyMesh& mesh);
 
+// Star-shapedness from the seeds: a cell is star-shaped from its seed when the seed is on the
+// inner side of every face's plane (it is then in the cell's kernel).
+struct StarShape {
+  size_t cells_not = 0;   // cells with a face plane beyond their seed by more than the tolerance
+  double worst = 0;       // the largest distance of a face plane beyond its seed
+};
+StarShape star_shape(const PolyMesh& mesh, double tolerance);
+
 }  // namespace froth

@@ -95,6 +95,13 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
+  if (!domain.convex) {
+    // Protected reflex edges keep cells star-shaped; a concave curved surface's flat reflex
+    // edges do not (README, "Non-convex domains"): measured here, before welding.
+    const StarShape star = star_shape(mesh, 1e-6 * opt.r);
+    run.not_star_shaped = star.cells_not;
+    run.star_violation = star.worst / opt.r;
+  }
   watch.lap();
 
   // The paper's bounds speak of the mesh before welding. Welding changes few cells: their

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "common/face_plane.hpp"
+
 namespace froth {
 
 double cell_volume(const PolyMesh& m, size_t c) {
@@ -42,6 +44,24 @@ double border_area(const PolyMesh& m) {
     area += norm(n) / 2;
   }
   return area;
+}
+
+StarShape star_shape(const PolyMesh& m, double tolerance) {
+  size_t bad = 0;
+  double worst = 0;
+#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : worst)
+  for (size_t c = 0; c < m.cell_count(); ++c) {
+    const Vec3 x = m.seeds[c];
+    double cell_worst = 0;
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int64_t b = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - b;
+      const FacePlane p = best_fit_plane(size_t(n), [&](size_t k) { return m.points[m.face_vertices[b + int64_t(k)]] - x; });
+      cell_worst = std::max(cell_worst, -dot(p.normal, p.centroid));
+    }
+    bad += cell_worst > tolerance;
+    worst = std::max(worst, cell_worst);
+  }
+  return {bad, worst};
 }
 
 namespace {

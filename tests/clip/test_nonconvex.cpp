@@ -185,6 +185,8 @@ TEST_P(NonConvex, GuaranteesHold) {
     }
   }
   RecordProperty("star_shape_violation_over_r", fmt::format("{:.3g}", worst_side / r));
+  EXPECT_NEAR(run.star_violation, worst_side / r, 1e-6);  // the run report's own measure
+  if (sharp_only) EXPECT_EQ(run.not_star_shaped, 0u);
   std::printf("%s: %zu cells (%zu edge, %zu vertex); worst face plane beyond the seed %.3g r (%zu concave flat edges)\n",
               k.shape.c_str(), m.cell_count(), run.edge_cells, run.vertex_cells, worst_side / r,
               d.features.flat_reflex_edges);
