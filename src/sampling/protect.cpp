@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 
 #include <fmt/format.h>
@@ -112,8 +113,8 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
     std::vector<Vec3> candidates;
     Vec3 sum{};
     std::vector<int32_t> around;
-    for (const auto& [e, t] : at_edge)
-      if (e.first == v) around.push_back(t);
+    for (auto it = at_edge.lower_bound({v, INT32_MIN}); it != at_edge.end() && it->first.first == v; ++it)
+      around.push_back(it->second);  // the triangles around v, one per edge leaving it
     for (int32_t t : around) sum = sum - normal[t];
     if (norm(sum) > 0) candidates.push_back(unit(sum));
     for (size_t i = 0; i < around.size(); ++i)
