@@ -32,7 +32,8 @@ struct SurfaceLocator::Impl {
   std::vector<CGAL::Bbox_3> boxes;  // per triangle
 };
 
-SurfaceLocator::SurfaceLocator(const TriangleSurface& surface) : surface_(surface), impl_(std::make_unique<Impl>()) {
+SurfaceLocator::SurfaceLocator(const TriangleSurface& surface)
+    : triangles_(surface.triangles), impl_(std::make_unique<Impl>()) {
   Mesh& m = impl_->mesh;
   for (Vec3 p : surface.vertices) {
     impl_->points.push_back(to_cgal(p));
@@ -84,13 +85,14 @@ bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
       tb.zmin() > hi.z)
     return false;
   const auto& P = impl_->points;
-  auto [a, b, c] = surface_.triangles[t];
+  auto [a, b, c] = triangles_[t];
   return CGAL::do_intersect(Kernel::Triangle_3(P[a], P[b], P[c]),
                             Kernel::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)));
 }
 
-int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r) {
-  const Point P = to_cgal(p), Q = to_cgal(q), R = to_cgal(r), pa = to_cgal(a), pb = to_cgal(b);
+namespace {
+
+int crossing(const Point& pa, const Point& pb, const Point& P, const Point& Q, const Point& R) {
   const auto oa = CGAL::orientation(P, Q, R, pa), ob = CGAL::orientation(P, Q, R, pb);
   if (oa == CGAL::COPLANAR || ob == CGAL::COPLANAR) {
     // An end on the plane: degenerate only if it lies in the (closed) triangle.
@@ -107,9 +109,16 @@ int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r) {
   return 1;
 }
 
+}  // namespace
+
+int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r) {
+  return crossing(to_cgal(a), to_cgal(b), to_cgal(p), to_cgal(q), to_cgal(r));
+}
+
 int SurfaceLocator::segment_crossing(Vec3 a, Vec3 b, int32_t t) const {
-  auto [i, j, k] = surface_.triangles[t];
-  return froth::segment_crossing(a, b, surface_.vertices[i], surface_.vertices[j], surface_.vertices[k]);
+  const auto& P = impl_->points;
+  auto [i, j, k] = triangles_[t];
+  return crossing(to_cgal(a), to_cgal(b), P[i], P[j], P[k]);
 }
 
 std::optional<std::pair<int32_t, int32_t>> SurfaceLocator::first_self_intersection() const {

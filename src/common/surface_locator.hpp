@@ -2,6 +2,7 @@
 // a box: the queries that sampling and clipping ask of a non-convex domain. Built once per
 // domain; every query is const and thread-safe.
 #pragma once
+#include <array>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -45,11 +46,9 @@ class SurfaceLocator {
   // A pair of triangles that intersect other than along a shared edge or vertex (exact), if any.
   std::optional<std::pair<int32_t, int32_t>> first_self_intersection() const;
 
-  const TriangleSurface& surface() const { return surface_; }
-
  private:
-  struct Impl;
-  TriangleSurface surface_;
+  struct Impl;  // the surface as a CGAL mesh, its vertices and triangle boxes, the AABB tree
+  std::vector<std::array<int32_t, 3>> triangles_;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -24,10 +24,6 @@ using Point = Kernel::Point_3;
 Point to_cgal(Vec3 p) { return Point(p.x, p.y, p.z); }
 std::string fmt_point(Vec3 p) { return fmt::format("({}, {}, {})", p.x, p.y, p.z); }
 
-}  // namespace
-
-namespace {
-
 // The box as a triangle surface (outward), for its features.
 TriangleSurface box_surface(const Box& b) {
   TriangleSurface s;
