@@ -104,6 +104,13 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   // are), and merge again without them, until no cluster is refused.
   UnionFind uf(m.points.size());
   std::vector<int32_t> cyc, sorted;
+  // Per cluster root, the vertex on the most border planes (the smallest id on a tie): it
+  // keeps its place.
+  struct Keeper {
+    int32_t vertex = -1;
+    const std::vector<int32_t>* planes = nullptr;
+  };
+  std::map<int32_t, Keeper> keeper;
   for (;;) {
     uf = UnionFind(m.points.size());
     for (auto [u, v] : short_edges)
@@ -122,17 +129,17 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
           pinched = true;
         }
     }
-    std::map<int32_t, const std::vector<int32_t>*> widest;  // per cluster root
+    keeper.clear();
     for (const auto& [v, p] : planes) {
       if (refused[v]) continue;
-      auto& w = widest[uf.find(v)];
-      if (!w || p.size() > w->size()) w = &p;
+      Keeper& k = keeper[uf.find(v)];
+      if (!k.planes || p.size() > k.planes->size()) k = {v, &p};
     }
-    for (const auto& [v, p] : planes)
-      if (!refused[v] && !std::includes(widest[uf.find(v)]->begin(), widest[uf.find(v)]->end(), p.begin(), p.end())) {
-        refused[v] = 1;
-        pinched = true;
-      }
+    for (const auto& [v, p] : planes) {
+      if (refused[v]) continue;
+      const std::vector<int32_t>& kept = *keeper[uf.find(v)].planes;
+      if (!std::includes(kept.begin(), kept.end(), p.begin(), p.end())) refused[v] = 1, pinched = true;
+    }
     if (!pinched) break;
     for (bool spread = true; spread;) {  // refuse the rest of those clusters too
       spread = false;
@@ -142,11 +149,11 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   }
   for (size_t v = 0; v < refused.size(); ++v) st.clusters_refused += refused[v] && uf.find(int32_t(v)) == int32_t(v);
 
+  // A cluster with a border vertex goes to its keeper, any other to its centroid.
   struct Cluster {
     Vec3 sum{};
     int count = 0;
     int32_t keeper = -1;
-    size_t keeper_planes = 0;
   };
   std::map<int32_t, Cluster> clusters;
   for (const auto& [v, p] : planes) {
@@ -154,8 +161,8 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     Cluster& c = clusters[uf.find(v)];
     c.sum = c.sum + m.points[v];
     ++c.count;
-    if (p.size() > c.keeper_planes || (p.size() == c.keeper_planes && p.size() > 0 && v < c.keeper))
-      c.keeper = v, c.keeper_planes = p.size();
+    const Keeper& k = keeper.at(uf.find(v));
+    if (!k.planes->empty()) c.keeper = k.vertex;
   }
 
   // New points: one per root, in id order; every old point's new id.
