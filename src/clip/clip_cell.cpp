@@ -19,11 +19,9 @@ SurfaceGenerators::SurfaceGenerators(const Domain& d) {
   for (size_t t = 0; t < T.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = T[t][k], b = T[t][(k + 1) % 3];
-      auto [it, added] = id.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(edge_vertices.size()));
-      if (added) edge_vertices.push_back({it->first.first, it->first.second});
-      triangle_edges[t][k] = it->second;
+      triangle_edges[t][k] = id.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(id.size())).first->second;
     }
-  edges = int32_t(edge_vertices.size());
+  edges = int32_t(id.size());
 }
 
 namespace {

@@ -22,7 +22,6 @@ namespace froth {
 struct SurfaceGenerators {
   int32_t planes = 0, edges = 0;
   std::vector<std::array<int32_t, 3>> triangle_edges;  // edge ids of (t0,t1), (t1,t2), (t2,t0)
-  std::vector<std::array<int32_t, 2>> edge_vertices;
   explicit SurfaceGenerators(const Domain& d);
   int32_t plane(int32_t f) const { return -(f + 1); }
   int32_t edge(int32_t e) const { return -(planes + 1 + e); }
