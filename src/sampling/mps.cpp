@@ -81,15 +81,15 @@ int poisson(double u) {
 class Sampler {
  public:
   Sampler(const Domain& domain, double r, uint64_t seed)
-      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), rng_(seed, RandomStream::Sampling) {
+      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
 
-  Sample run(uint64_t seed) {
-    protect(seed);
+  Sample run() {
+    protect();
     std::vector<ActiveCube> active = initial_cubes();
     int level = 0;
     while (!active.empty()) {
@@ -522,9 +522,9 @@ class Sampler {
   }
 
   // Protection seeds first (paper §2.2); the free seeds then keep r from them like from each other.
-  void protect(uint64_t seed) {
+  void protect() {
     if (domain_.convex || domain_.reflex_curves.empty()) return;
-    ProtectionSeeds p = protect_reflex_features(domain_, r_, seed);
+    ProtectionSeeds p = protect_reflex_features(domain_, r_, seed_);
     std::map<int64_t, std::vector<int32_t>> in_cube;
     for (size_t k = 0; k < p.points.size(); ++k) {
       const int32_t id = int32_t(s_.seeds.size());
@@ -576,6 +576,7 @@ class Sampler {
   std::vector<int32_t> boundary_planes_;
   std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
   double r_, r2_;
+  uint64_t seed_;
   CounterRng rng_;
   Sample s_;
 };
@@ -583,7 +584,7 @@ class Sampler {
 }  // namespace
 
 Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed) {
-  return Sampler(domain, r, seed).run(seed);
+  return Sampler(domain, r, seed).run();
 }
 
 }  // namespace froth
