@@ -6,6 +6,7 @@
 #include "froth/geometry.hpp"
 #include "froth/io.hpp"
 #include "froth/mesh.hpp"
+#include "froth/partition.hpp"
 #include "froth/quality.hpp"
 #include "froth/validate.hpp"
 #include "froth/weld.hpp"

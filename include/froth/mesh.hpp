@@ -45,6 +45,11 @@ enum class CellKind : uint8_t { Interior = 0, Fringe = 1, Edge = 2, Vertex = 3 }
 inline bool is_border_generator(int32_t g) { return g < 0; }
 inline int32_t plane_generator(int32_t plane) { return -(plane + 1); }
 inline int32_t generator_plane(int32_t g) { return -g - 1; }
+// A piece of a partitioned mesh (froth/partition.hpp): an interior face toward a cell of another
+// piece, whose seed is a free one or a protection seed (Lemma 6's relaxation needs to know).
+constexpr int32_t kOtherPiece = INT32_MAX;
+constexpr int32_t kOtherPieceProtected = INT32_MAX - 1;
+inline bool is_other_piece_generator(int32_t g) { return g >= kOtherPieceProtected; }
 
 // Quality metrics of one cell (see froth/quality.hpp).
 struct CellQuality {

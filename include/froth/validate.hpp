@@ -1,6 +1,7 @@
 // Structural checks of a finished mesh. generate_mesh runs them before returning, so froth
 // never hands back a mesh that fails them; the tests call them too.
 #pragma once
+#include <cstdint>
 #include <string>
 
 #include "froth/mesh.hpp"
@@ -31,6 +32,7 @@ struct StarShape {
   size_t cells_not = 0;   // cells with a face plane beyond their seed by more than the tolerance
   double worst = 0;       // the largest distance of a face plane beyond its seed
 };
-StarShape star_shape(const PolyMesh& mesh, double tolerance);
+// Cells [begin, end) only, if given.
+StarShape star_shape(const PolyMesh& mesh, double tolerance, size_t begin = 0, size_t end = SIZE_MAX);
 
 }  // namespace froth

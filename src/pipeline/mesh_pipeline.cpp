@@ -14,13 +14,11 @@
 #include "froth/quality.hpp"
 #include "froth/validate.hpp"
 #include "froth/weld.hpp"
+#include "pipeline/partition.hpp"
 #include "sampling/mps.hpp"
 #include "voronoi/tessellation.hpp"
 
 namespace froth {
-namespace {
-
-}  // namespace
 
 size_t peak_rss_bytes() {
   std::ifstream status("/proc/self/status");
@@ -51,9 +49,8 @@ class Stopwatch {
   std::chrono::steady_clock::time_point t_ = std::chrono::steady_clock::now();
 };
 
-}  // namespace
-
-PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* report) {
+// Checks the options and fills the report's description of the run.
+void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run) {
   if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
   if (!(opt.weld >= 0) || !(opt.weld < opt.r))
     fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {}", opt.weld));
@@ -62,9 +59,6 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
     fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
-
-  RunReport local;
-  RunReport& run = report ? *report : local;
   run.domain = domain.description;
   run.r = opt.r;
   run.seed = opt.seed;
@@ -75,53 +69,53 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
                domain.reoriented_triangles};
   run.surface_area = domain.surface_area;
   run.features = domain.features;
+}
 
-  auto progress = [&](const char* stage) {
-    if (opt.progress) opt.progress(stage);
-  };
-  Stopwatch total, watch;
-  progress("sampling");
-  Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
-  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
-  run.sampling = sample.stats;
-  malloc_trim(0);  // hand the sampler's freed work lists back before the cells' peak
-  if (sample.seeds.empty()) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", opt.r));
-  if (sample.stats.uncovered_cubes > 0)
-    fail(ErrorKind::Internal, fmt::format("sampling stopped at the finest level with {} uncovered cubes",
-                                          sample.stats.uncovered_cubes));
+void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
+  if (seeds == 0) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", r));
+  if (uncovered_cubes > 0)
+    fail(ErrorKind::Internal, fmt::format("sampling stopped at the finest level with {} uncovered cubes", uncovered_cubes));
+}
 
-  progress("cells");
-  TessellationTimes tt;
-  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
-  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
-  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
-  if (!domain.convex) {
-    // Protected reflex edges keep cells star-shaped; a concave curved surface's flat reflex
-    // edges do not (README, "Non-convex domains"): measured here, before welding.
-    const StarShape star = star_shape(mesh, 1e-6 * opt.r);
-    run.not_star_shaped = star.cells_not;
-    run.star_violation = star.worst / opt.r;
-  }
-  watch.lap();
+// Star-shapedness of cells [begin, end) before welding (non-convex domains).
+void measure_star_shape(const Domain& domain, const PolyMesh& mesh, const MeshOptions& opt, RunReport& run,
+                        size_t begin, size_t end) {
+  if (domain.convex) return;
+  // Protected reflex edges keep cells star-shaped; a concave curved surface's flat reflex
+  // edges do not (README, "Non-convex domains"): measured here, before welding.
+  const StarShape star = star_shape(mesh, 1e-6 * opt.r, begin, end);
+  run.not_star_shaped = star.cells_not;
+  run.star_violation = star.worst / opt.r;
+}
 
+// What welding changed, for the quality report's figures before welding: the cells it
+// changed and their verdicts before.
+struct WeldedCells {
+  std::vector<size_t> cells;
+  std::vector<CellVerdict> before;
+};
+
+WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
+  WeldedCells welded;
+  if (!(opt.weld > 0)) return welded;
+  if (opt.progress) opt.progress("welding");
   // The paper's bounds speak of the mesh before welding. Welding changes few cells: their
   // metrics are taken before it, and the other cells' are the same before and after.
-  std::vector<size_t> welded_cells;
-  std::vector<CellVerdict> unwelded;
-  if (opt.weld > 0) {
-    progress("welding");
-    auto measure_before = [&](const std::vector<size_t>& cells) {
-      if (!opt.quality) return;
-      welded_cells = cells;
-      unwelded.resize(cells.size());
+  auto measure_before = [&](const std::vector<size_t>& cells) {
+    if (!opt.quality) return;
+    welded.cells = cells;
+    welded.before.resize(cells.size());
 #pragma omp parallel for schedule(dynamic, 64)
-      for (size_t i = 0; i < cells.size(); ++i) unwelded[i] = cell_verdict(mesh, cells[i]);
-    };
-    run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, opt.weld, opt.r, measure_before));
-    run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
-  }
+    for (size_t i = 0; i < cells.size(); ++i) welded.before[i] = cell_verdict(mesh, cells[i]);
+  };
+  run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, opt.weld, opt.r, measure_before));
+  run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
+  return welded;
+}
 
-  progress("validation");
+// Volumes, structural checks, quality and counts of the finished mesh (or piece).
+void finish_mesh(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
+  if (opt.progress) opt.progress("validation");
   mesh.volumes.resize(mesh.cell_count());
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
@@ -134,15 +128,15 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
                                           check.first_problem));
 
   if (opt.quality) {
-    progress("quality");
+    if (opt.progress) opt.progress("quality");
     run.quality = std::make_shared<const QualityReport>(assess_quality(mesh, &mesh.quality));
     if (run.welding) {
       // Bounds before welding: the counts after, with the welded cells' verdicts swapped back;
       // and how far welding moved those cells' figures.
       QualityReport before = *run.quality;
-      for (size_t i = 0; i < welded_cells.size(); ++i) {
-        const CellVerdict after = cell_verdict(mesh, welded_cells[i]);
-        const CellVerdict& was = unwelded[i];
+      for (size_t i = 0; i < welded.cells.size(); ++i) {
+        const CellVerdict after = cell_verdict(mesh, welded.cells[i]);
+        const CellVerdict& was = welded.before[i];
         before.theorem1_violations += uint64_t(was.theorem1) - uint64_t(after.theorem1);
         before.lemma6_interior_violations += uint64_t(was.lemma6_interior) - uint64_t(after.lemma6_interior);
         before.lemma6_border_violations += uint64_t(was.lemma6_border) - uint64_t(after.lemma6_border);
@@ -166,6 +160,93 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;
+}
+
+}  // namespace
+
+PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* report) {
+  RunReport local;
+  RunReport& run = report ? *report : local;
+  start_run(domain, opt, run);
+  auto progress = [&](const char* stage) {
+    if (opt.progress) opt.progress(stage);
+  };
+  Stopwatch total, watch;
+  progress("sampling");
+  Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
+  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
+  run.sampling = sample.stats;
+  malloc_trim(0);  // hand the sampler's freed work lists back before the cells' peak
+  check_sample(sample.seeds.size(), sample.stats.uncovered_cubes, opt.r);
+
+  progress("cells");
+  TessellationTimes tt;
+  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
+  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
+  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
+  measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
+  watch.lap();
+
+  const WeldedCells welded = weld_stage(mesh, opt, run, watch);
+  finish_mesh(mesh, opt, run, welded, watch);
+  run.total_seconds = total.lap();
+  run.peak_rss_bytes = peak_rss_bytes();
+  return mesh;
+}
+
+PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Communicator& comm, RunReport* report,
+                             PartitionReport* partition) {
+  RunReport local_run;
+  RunReport& run = report ? *report : local_run;
+  PartitionReport local_part;
+  PartitionReport& part = partition ? *partition : local_part;
+  start_run(domain, opt, run);
+  Stopwatch total, watch;
+  part.rank = comm.rank();
+  part.ranks = comm.size();
+  part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
+
+  if (opt.progress) opt.progress("sampling");
+  SamplingPartition sp{part.slab, &comm};
+  CellWindow w;
+  {
+    Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp);
+    part.exchanges = sp.exchanges;
+    w = exchange_cell_halo(sampled, part.slab, comm);
+  }
+  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
+  run.sampling = w.sample.stats;
+  // Counts over all ranks (protection seeds are computed whole on every rank).
+  run.sampling.seeds = w.total_seeds;
+  run.sampling.darts = sum_over_ranks(comm, run.sampling.darts);
+  run.sampling.uncovered_cubes = sum_over_ranks(comm, run.sampling.uncovered_cubes);
+  malloc_trim(0);
+  check_sample(run.sampling.seeds, run.sampling.uncovered_cubes, opt.r);
+  part.first_seed = w.first_global + w.owned.begin;
+  part.owned_seeds = size_t(w.owned.end - w.owned.begin);
+  part.ghost_seeds = w.sample.seeds.size() - part.owned_seeds;
+  part.ghost_cells = size_t(w.built.end - w.built.begin) - part.owned_seeds;
+
+  // This rank's cells and the ring of ghost cells around them, welded together so that every
+  // short edge at an owned vertex is seen; then the ghost cells are dropped.
+  if (opt.progress) opt.progress("cells");
+  TessellationTimes tt;
+  const size_t own_begin = size_t(w.owned.begin - w.built.begin), own_end = size_t(w.owned.end - w.built.begin);
+  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built);
+  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
+  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
+  measure_star_shape(domain, ring, opt, run, own_begin, own_end);
+  watch.lap();
+  WeldedCells welded_ring = weld_stage(ring, opt, run, watch);
+  PolyMesh mesh = extract_cells(ring, own_begin, own_end, part.partition_faces);
+  ring = PolyMesh();
+  WeldedCells welded;
+  for (size_t k = 0; k < welded_ring.cells.size(); ++k)
+    if (welded_ring.cells[k] >= own_begin && welded_ring.cells[k] < own_end) {
+      welded.cells.push_back(welded_ring.cells[k] - own_begin);
+      welded.before.push_back(welded_ring.before[k]);
+    }
+  finish_mesh(mesh, opt, run, welded, watch);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;

@@ -46,11 +46,12 @@ double border_area(const PolyMesh& m) {
   return area;
 }
 
-StarShape star_shape(const PolyMesh& m, double tolerance) {
+StarShape star_shape(const PolyMesh& m, double tolerance, size_t begin, size_t end) {
   size_t bad = 0;
   double worst = 0;
+  end = std::min(end, m.cell_count());
 #pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : worst)
-  for (size_t c = 0; c < m.cell_count(); ++c) {
+  for (size_t c = begin; c < end; ++c) {
     const Vec3 x = m.seeds[c];
     double cell_worst = 0;
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
@@ -100,7 +101,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
         for (int64_t k = b; k < e; ++k)
           edges.push_back(uint64_t(uint32_t(m.face_vertices[k])) << 32 | uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b]));
         int32_t g = m.face_generator[f];
-        if (g < 0) continue;
+        if (g < 0 || is_other_piece_generator(g)) continue;  // a border face, or one matched by another piece
         bool twin = false;
         for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && !twin; ++h)
           twin = m.face_generator[h] == int32_t(c) && is_reversed_twin(m, f, h);

@@ -50,6 +50,7 @@ struct Dihedral {
 };
 
 bool is_protection_seed(const PolyMesh& m, int32_t generator) {
+  if (generator == kOtherPieceProtected) return true;
   return generator >= 0 && size_t(generator) < m.kinds.size() && m.kinds[generator] >= CellKind::Edge;
 }
 

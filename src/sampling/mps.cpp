@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cmath>
 #include <map>
+#include <cstring>
 #include <span>
 
 #include "common/random.hpp"
@@ -80,10 +81,20 @@ int poisson(double u) {
 
 class Sampler {
  public:
-  Sampler(const Domain& domain, double r, uint64_t seed)
-      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling) {
+  Sampler(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition)
+      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling),
+        partition_(partition) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
-    s_.cube_seed.assign(s_.grid.cube_count(), -1);
+    const int64_t layer = int64_t(s_.grid.nx) * s_.grid.ny;
+    if (partition_) {
+      const Slab& sl = partition_->slab;
+      owned_begin_ = sl.owned_begin, owned_end_ = sl.owned_end;
+      s_.cube_offset = layer * sl.window_begin;
+      s_.cube_seed.assign(size_t(layer) * (sl.window_end - sl.window_begin), -1);
+    } else {
+      owned_begin_ = 0, owned_end_ = s_.grid.nz;
+      s_.cube_seed.assign(s_.grid.cube_count(), -1);
+    }
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
@@ -92,11 +103,11 @@ class Sampler {
     protect();
     std::vector<ActiveCube> active = initial_cubes();
     int level = 0;
-    while (!active.empty()) {
+    while (anywhere(!active.empty())) {
       const int rounds = level == 0 ? kRoundsLevel0 : kRoundsPerLevel;
       const size_t darts0 = s_.stats.darts, seeds0 = s_.seeds.size();
       s_.stats.per_level.push_back({active.size(), 0, 0});
-      for (int q = 0; q < rounds && !active.empty(); ++q) throw_round(active, level, q);
+      for (int q = 0; q < rounds && anywhere(!active.empty()); ++q) throw_round(active, level, q);
       s_.stats.per_level.back().darts = s_.stats.darts - darts0;
       s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;
       if (level == tol::kMaxSamplingLevel) break;
@@ -113,6 +124,18 @@ class Sampler {
   }
 
  private:
+  int layer_of(int64_t b) const { return int(b / (int64_t(s_.grid.nx) * s_.grid.ny)); }
+  int32_t& cube_entry(int64_t b) { return s_.cube_seed[b - s_.cube_offset]; }
+  int32_t cube_entry(int64_t b) const { return s_.cube_seed[b - s_.cube_offset]; }
+
+  // Is `mine` true on any rank? (Every rank calls it at the same point.)
+  bool anywhere(bool mine) const {
+    if (!partition_) return mine;
+    for (const auto& b : partition_->comm->all_gather({uint8_t(mine)}))
+      if (b.at(0)) return true;
+    return false;
+  }
+
   Vec3 base_origin(int64_t b) const {
     const auto& g = s_.grid;
     int64_t i = b % g.nx, j = (b / g.nx) % g.ny, k = b / (int64_t(g.nx) * g.ny);
@@ -300,6 +323,7 @@ class Sampler {
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t blk = 0; blk < blocks; ++blk) {
       const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = int(blk / (size_t(bx) * by)) * B;
+      if (k0 + B <= owned_begin_ || k0 >= owned_end_) continue;  // another rank's slab
       std::vector<int32_t> block_cut, cube_cut, near;
       // The block as a cube of side B * side (it may stick out of the grid: harmless).
       const Vec3 block_lo = g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side};
@@ -310,7 +334,7 @@ class Sampler {
       if (cls < 0) continue;
       Reference block_ref{};
       if (!convex && cls == 0) block_ref = reference_near(block_lo + Vec3{bh / 2, bh / 2, bh / 2}, g.side);
-      for (int k = k0; k < std::min(k0 + B, g.nz); ++k)
+      for (int k = std::max(k0, owned_begin_); k < std::min({k0 + B, g.nz, owned_end_}); ++k)
         for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
           for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
             const uint32_t b = uint32_t(g.index(i, j, k));
@@ -359,7 +383,7 @@ class Sampler {
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
-        if (s_.cube_seed[c.base] != -1) continue;  // a seed covers the whole base cube
+        if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
         const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
         int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]));
@@ -382,21 +406,82 @@ class Sampler {
       }
     }
     s_.stats.darts += darts;
-    std::vector<Candidate> all = concatenate(found);
-    std::sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
-      return a.time != b.time ? a.time < b.time : a.base < b.base;
-    });
-    const std::vector<uint8_t> accepted = accept_in_arrival_order(all);
+    Round round_set;
+    round_set.all = concatenate(found);
+    std::sort(round_set.all.begin(), round_set.all.end(), by_arrival);
+    if (partition_) add_neighbours_candidates(round_set);
+    const std::vector<Candidate>& all = round_set.all;
+    const std::vector<uint8_t> accepted = accept_in_arrival_order(round_set);
     // New seeds are numbered in Morton order of their cubes, so the seeds that neighbour
-    // queries read together lie together in memory (the arrival order scatters them).
+    // queries read together lie together in memory (the arrival order scatters them). A
+    // neighbour's accepted candidates are this rank's halo seeds.
     std::vector<std::pair<uint64_t, uint32_t>> order;
     for (size_t c = 0; c < all.size(); ++c)
       if (accepted[c]) order.push_back({morton(all[c].base), uint32_t(c)});
     std::sort(order.begin(), order.end());
     for (const auto& [key, c] : order) {
-      s_.cube_seed[all[c].base] = int32_t(s_.seeds.size());
+      cube_entry(all[c].base) = int32_t(s_.seeds.size());
       buckets_.insert(int32_t(s_.seeds.size()), all[c].p);
       s_.seeds.push_back(all[c].p);
+    }
+  }
+
+  static bool by_arrival(const Candidate& a, const Candidate& b) {
+    return a.time != b.time ? a.time < b.time : a.base < b.base;
+  }
+
+  // One round's candidates in arrival order. In a partitioned run they include the neighbours'
+  // candidates within r of this slab (`source`: 0 own, 1 from the rank below, 2 from above),
+  // and the positions of the candidates whose decisions the ranks trade.
+  struct Round {
+    std::vector<Candidate> all;
+    std::vector<uint8_t> source;
+    std::vector<uint32_t> send_lower, send_upper, from_lower, from_upper;
+  };
+
+  // Candidates within r of the slab's faces go to the neighbour on that side: a candidate
+  // conflicts only with others within r, and r spans fewer than kSamplingHaloLayers layers.
+  void add_neighbours_candidates(Round& rs) {
+    auto pack = [&](bool lower) {
+      Communicator::Bytes out;
+      for (const Candidate& c : rs.all) {
+        const int k = layer_of(c.base);
+        if (lower ? k < owned_begin_ + kSamplingHaloLayers : k >= owned_end_ - kSamplingHaloLayers) {
+          const auto* b = reinterpret_cast<const uint8_t*>(&c);
+          out.insert(out.end(), b, b + sizeof(Candidate));
+        }
+      }
+      return out;
+    };
+    Communicator::Bytes below, above;
+    partition_->comm->exchange_with_neighbours(pack(true), pack(false), below, above);
+    ++partition_->exchanges;
+    rs.source.assign(rs.all.size(), 0);
+    for (const auto* bytes : {&below, &above}) {
+      const size_t n = bytes->size() / sizeof(Candidate);
+      const size_t at = rs.all.size();
+      rs.all.resize(at + n);
+      std::memcpy(static_cast<void*>(rs.all.data() + at), bytes->data(), n * sizeof(Candidate));
+      rs.source.resize(at + n, bytes == &below ? 1 : 2);
+    }
+    std::vector<uint32_t> perm(rs.all.size());
+    for (size_t i = 0; i < perm.size(); ++i) perm[i] = uint32_t(i);
+    std::sort(perm.begin(), perm.end(), [&](uint32_t a, uint32_t b) { return by_arrival(rs.all[a], rs.all[b]); });
+    std::vector<Candidate> sorted(perm.size());
+    std::vector<uint8_t> source(perm.size());
+    for (size_t i = 0; i < perm.size(); ++i) sorted[i] = rs.all[perm[i]], source[i] = rs.source[perm[i]];
+    rs.all = std::move(sorted);
+    rs.source = std::move(source);
+    // Each side's candidates keep their relative (arrival) order, so both ranks list the traded
+    // ones in the same order.
+    for (size_t c = 0; c < rs.all.size(); ++c) {
+      const int k = layer_of(rs.all[c].base);
+      if (rs.source[c] == 1) rs.from_lower.push_back(uint32_t(c));
+      else if (rs.source[c] == 2) rs.from_upper.push_back(uint32_t(c));
+      else {
+        if (k < owned_begin_ + kSamplingHaloLayers) rs.send_lower.push_back(uint32_t(c));
+        if (k >= owned_end_ - kSamplingHaloLayers) rs.send_upper.push_back(uint32_t(c));
+      }
     }
   }
 
@@ -414,12 +499,19 @@ class Sampler {
   // accepted iff no earlier candidate of the round that conflicts with it (within r, or in
   // the same base cube) is accepted. Each pass decides every candidate whose earlier
   // conflicting candidates are all decided; decisions are final, so the result is the
-  // sequential greedy one whatever the threads or their timing.
-  std::vector<uint8_t> accept_in_arrival_order(const std::vector<Candidate>& all) const {
+  // sequential greedy one whatever the threads or their timing. In a partitioned run a rank
+  // decides its own candidates only; after it can go no further the ranks trade the decisions
+  // near their shared faces, until no rank has an undecided candidate. The earliest undecided
+  // candidate anywhere is always decidable, so this ends, with the serial decisions.
+  std::vector<uint8_t> accept_in_arrival_order(const Round& rs) {
     enum : uint8_t { Undecided, Accepted, Rejected };
+    const std::vector<Candidate>& all = rs.all;
     const size_t n = all.size();
-    // Candidates bucketed in cubes of side r (counting sort; ascending index in each bucket).
-    const Box& box = domain_.bounds;
+    // Candidates bucketed in cubes of side r over their bounding box (counting sort; ascending
+    // index in each bucket).
+    Box box{all.empty() ? Vec3{} : all[0].p, all.empty() ? Vec3{} : all[0].p};
+    for (const Candidate& c : all)
+      for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], c.p[a]), box.hi[a] = std::max(box.hi[a], c.p[a]);
     const int nx = std::max(1, int(std::ceil(box.size().x / r_))), ny = std::max(1, int(std::ceil(box.size().y / r_))),
               nz = std::max(1, int(std::ceil(box.size().z / r_)));
     auto cell = [&](Vec3 p, int& i, int& j, int& k) {
@@ -442,35 +534,52 @@ class Sampler {
     }
     std::vector<std::atomic<uint8_t>> state(n);
     for (auto& s : state) s.store(Undecided, std::memory_order_relaxed);
-    bool undecided = n > 0;
-    while (undecided) {
-      undecided = false;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided)
-      for (size_t c = 0; c < n; ++c) {
-        if (state[c].load(std::memory_order_relaxed) != Undecided) continue;
-        int ci, cj, ck;
-        cell(all[c].p, ci, cj, ck);
-        bool blocked = false, dead = false;
-        for (int k = std::max(0, ck - 1); k <= std::min(nz - 1, ck + 1) && !dead; ++k)
-          for (int j = std::max(0, cj - 1); j <= std::min(ny - 1, cj + 1) && !dead; ++j)
-            for (int i = std::max(0, ci - 1); i <= std::min(nx - 1, ci + 1) && !dead; ++i) {
-              const size_t b = (size_t(k) * ny + j) * nx + i;
-              for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
-                const uint32_t d = order[e];
-                if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
-                if (all[d].base != all[c].base && norm2(all[d].p - all[c].p) >= r2_) continue;
-                const uint8_t sd = state[d].load(std::memory_order_acquire);
-                if (sd == Accepted) {
-                  dead = true;
-                  break;
+    for (;;) {
+      bool undecided = n > 0, progress = true;
+      while (undecided && progress) {
+        undecided = progress = false;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided, progress)
+        for (size_t c = 0; c < n; ++c) {
+          if (state[c].load(std::memory_order_relaxed) != Undecided) continue;
+          if (!rs.source.empty() && rs.source[c] != 0) continue;  // a neighbour decides it
+          int ci, cj, ck;
+          cell(all[c].p, ci, cj, ck);
+          bool blocked = false, dead = false;
+          for (int k = std::max(0, ck - 1); k <= std::min(nz - 1, ck + 1) && !dead; ++k)
+            for (int j = std::max(0, cj - 1); j <= std::min(ny - 1, cj + 1) && !dead; ++j)
+              for (int i = std::max(0, ci - 1); i <= std::min(nx - 1, ci + 1) && !dead; ++i) {
+                const size_t b = (size_t(k) * ny + j) * nx + i;
+                for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
+                  const uint32_t d = order[e];
+                  if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
+                  if (all[d].base != all[c].base && norm2(all[d].p - all[c].p) >= r2_) continue;
+                  const uint8_t sd = state[d].load(std::memory_order_acquire);
+                  if (sd == Accepted) {
+                    dead = true;
+                    break;
+                  }
+                  if (sd == Undecided) blocked = true;
                 }
-                if (sd == Undecided) blocked = true;
               }
-            }
-        if (dead) state[c].store(Rejected, std::memory_order_release);
-        else if (!blocked) state[c].store(Accepted, std::memory_order_release);
-        else undecided = true;
+          if (dead) state[c].store(Rejected, std::memory_order_release), progress = true;
+          else if (!blocked) state[c].store(Accepted, std::memory_order_release), progress = true;
+          else undecided = true;
+        }
       }
+      if (!partition_) break;
+      // Trade decisions with the neighbours, then stop when no rank has an undecided candidate
+      // (the trade before that last check delivered the final ones).
+      auto states = [&](const std::vector<uint32_t>& at) {
+        Communicator::Bytes out(at.size());
+        for (size_t k = 0; k < at.size(); ++k) out[k] = state[at[k]].load(std::memory_order_relaxed);
+        return out;
+      };
+      Communicator::Bytes below, above;
+      partition_->comm->exchange_with_neighbours(states(rs.send_lower), states(rs.send_upper), below, above);
+      ++partition_->exchanges;
+      for (size_t k = 0; k < rs.from_lower.size(); ++k) state[rs.from_lower[k]].store(below.at(k));
+      for (size_t k = 0; k < rs.from_upper.size(); ++k) state[rs.from_upper[k]].store(above.at(k));
+      if (!anywhere(undecided)) break;
     }
     std::vector<uint8_t> accepted(n);
     for (size_t c = 0; c < n; ++c) accepted[c] = state[c].load(std::memory_order_relaxed) == Accepted;
@@ -491,7 +600,7 @@ class Sampler {
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
-        if (s_.cube_seed[c.base] != -1) continue;  // a seed covers the whole base cube
+        if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         if (c.base != cached_base) {  // sub-cubes of one base cube are adjacent in the list
           cached_base = c.base;
           seeds_near_box(base_origin(c.base), s_.grid.side, near_base);
@@ -525,15 +634,17 @@ class Sampler {
   void protect() {
     if (domain_.convex || domain_.reflex_curves.empty()) return;
     ProtectionSeeds p = protect_reflex_features(domain_, r_, seed_);
-    std::map<int64_t, std::vector<int32_t>> in_cube;
+    std::map<int64_t, std::vector<int32_t>> in_cube;  // by index into cube_seed
     for (size_t k = 0; k < p.points.size(); ++k) {
+      int i, j, l;
+      s_.grid.locate(p.points[k], i, j, l);
+      const int64_t slot = s_.grid.index(i, j, l) - s_.cube_offset;
+      if (slot < 0 || slot >= int64_t(s_.cube_seed.size())) continue;  // outside this rank's window
       const int32_t id = int32_t(s_.seeds.size());
       s_.seeds.push_back(p.points[k]);
       buckets_.insert(id, p.points[k]);
       s_.protected_seeds.push_back({id, p.kinds[k], p.inward[k]});
-      int i, j, l;
-      s_.grid.locate(p.points[k], i, j, l);
-      in_cube[s_.grid.index(i, j, l)].push_back(id);
+      in_cube[slot].push_back(id);
     }
     s_.cube_extra_begin.assign(1, 0);
     for (const auto& [c, ids] : in_cube) {
@@ -579,12 +690,14 @@ class Sampler {
   uint64_t seed_;
   CounterRng rng_;
   Sample s_;
+  SamplingPartition* partition_;    // null: the whole grid on this process
+  int owned_begin_, owned_end_;     // the z layers whose cubes this sampler throws darts into
 };
 
 }  // namespace
 
-Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed) {
-  return Sampler(domain, r, seed).run();
+Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition) {
+  return Sampler(domain, r, seed, partition).run();
 }
 
 }  // namespace froth

@@ -8,6 +8,7 @@
 #include "common/background_grid.hpp"
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
+#include "froth/partition.hpp"
 
 namespace froth {
 
@@ -16,7 +17,10 @@ struct Sample {
   std::vector<Vec3> seeds;          // ordered by base cube index
   // Per base cube: index of its seed, -1 if none, or -2 - k if it holds several protection
   // seeds (r_e apart, closer than a cube's diagonal): cube_extra[cube_extra_begin[k] ...].
+  // A partitioned run holds only a window of z layers: cube_seed[c - cube_offset] is base cube
+  // c's entry, and cubes outside the window hold no seed here.
   std::vector<int32_t> cube_seed;
+  int64_t cube_offset = 0;
   std::vector<int32_t> cube_extra_begin, cube_extra;
   // Protection seeds (src/sampling/protect.hpp), sorted by seed index: kind and a direction
   // into the domain. Every other seed is a free one.
@@ -31,6 +35,8 @@ struct Sample {
   // Calls f(seed index) for every seed in base cube c.
   template <class F>
   void for_seeds_in_cube(int64_t c, F&& f) const {
+    c -= cube_offset;
+    if (c < 0 || c >= int64_t(cube_seed.size())) return;
     const int32_t q = cube_seed[c];
     if (q >= 0) return f(q);
     if (q == -1) return;
@@ -43,7 +49,17 @@ struct Sample {
   }
 };
 
-// A maximal r-disk sample of the domain, a pure function of (domain, r, seed).
-Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed);
+// A rank's share of a partitioned sampling: its slab, and the processes to trade halos with.
+struct SamplingPartition {
+  Slab slab;  // window: the owned layers and kSamplingHaloLayers on each side
+  Communicator* comm = nullptr;
+  size_t exchanges = 0;  // out: neighbour exchanges made
+};
+
+// A maximal r-disk sample of the domain, a pure function of (domain, r, seed). With a partition,
+// the seeds of the slab's window only (the owned ones are final; those in the halo are the ones
+// that were needed), the same as the serial sample's there; every rank must call it together.
+Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed,
+                                   SamplingPartition* partition = nullptr);
 
 }  // namespace froth

@@ -89,8 +89,9 @@ struct CellChunk {
 
 constexpr uint8_t kOwnedBit = 0x80;
 
-int32_t owner_of(const int32_t* key, int len) {
-  return *std::find_if(key, key + len, [](int32_t g) { return g >= 0; });
+// The vertex's owner: the smallest seed of its name among the cells built (from `first` on).
+int32_t owner_of(const int32_t* key, int len, int32_t first) {
+  return *std::find_if(key, key + len, [first](int32_t g) { return g >= first; });
 }
 
 // Do the names a + {self} and b + {owner} agree (each sorted, each without its own cell's
@@ -190,7 +191,7 @@ class CellBuilder {
 
 template <class Cell>
 void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::vector<ConvexCell::Names>& names,
-                 const Sample::Protected* protection) {
+                 const Sample::Protected* protection, SeedRange built) {
   int32_t key[ConvexCell::kMaxGenerators + 1];
   bool fringe = false;
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
@@ -199,7 +200,7 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
     key[n++] = i;
     for (int a = 1; a < n; ++a)  // insertion sort: keys have 4 entries, rarely more
       for (int b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
-    const bool owned = owner_of(key, n) == i;
+    const bool owned = owner_of(key, n, built.begin) == i;
     // Stored without the cell's own seed, which is implied.
     std::remove(key, key + n, i);
     --n;
@@ -220,6 +221,8 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
   for (size_t f = 0; f < cell.face_count(); ++f) {
     int32_t g = cell.face_generator(f);
     fringe |= is_border_generator(g);
+    // Neighbours by cell index; one that is not built is another piece's.
+    if (g >= 0) g = g >= built.begin && g < built.end ? g - built.begin : kOtherPiece;
     ch.face_gen.push_back(g);
     ch.face_size.push_back(uint8_t(cell.face_size(f)));
     const uint16_t* fv = cell.face_begin(f);
@@ -240,9 +243,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times) {
+PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
+                            SeedRange built) {
   auto t0 = std::chrono::steady_clock::now();
-  const size_t n = sample.seeds.size();
+  if (built.end < 0) built = {0, int32_t(sample.seeds.size())};
+  const int32_t first_seed = built.begin;
+  const size_t n = size_t(built.end - built.begin);
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
   std::vector<CellChunk> chunks(nchunks);
   CellBuilder builder(domain, sample, r);
@@ -261,16 +267,17 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     for (size_t c = 0; c < nchunks; ++c) {
       CellChunk& ch = chunks[c];
       ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
-      for (size_t i = c * kCellsPerChunk; i < std::min(n, (c + 1) * kCellsPerChunk); ++i) {
-        std::string err = builder.build(int32_t(i), cell, clipped, is_clipped, nb, names);
+      for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
+        const int32_t i = first_seed + int32_t(k);
+        std::string err = builder.build(i, cell, clipped, is_clipped, nb, names);
         if (!err.empty()) {
           std::lock_guard lock(error_mutex);
-          if (i < first_bad) first_bad = i, first_error = err;
+          if (k < first_bad) first_bad = k, first_error = err;
           break;
         }
-        const Sample::Protected* protection = sample.protection_of(int32_t(i));
-        if (is_clipped) append_cell(ch, int32_t(i), sample.seeds[i], clipped, clipped.names(), protection);
-        else append_cell(ch, int32_t(i), sample.seeds[i], cell, names, protection);
+        const Sample::Protected* protection = sample.protection_of(i);
+        if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
+        else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
       }
     }
   }
@@ -282,7 +289,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   PolyMesh mesh;
   // The grid is not needed any more: free it before the peak.
   std::vector<int32_t>().swap(sample.cube_seed);
-  mesh.seeds = std::move(sample.seeds);
+  if (n == sample.seeds.size()) mesh.seeds = std::move(sample.seeds);
+  else mesh.seeds.assign(sample.seeds.begin() + built.begin, sample.seeds.begin() + built.end);
   std::vector<int64_t> owned_base(n + 1, 0);
   std::vector<int64_t> chunk_face(nchunks + 1, 0), chunk_fv(nchunks + 1, 0);
   for (size_t c = 0; c < nchunks; ++c) {
@@ -315,7 +323,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       int64_t face = chunk_face[c], fv = chunk_fv[c];
       size_t local_fv = 0, other = 0;
       for (size_t k = 0; k + 1 < ch.vertex_begin.size(); ++k) {
-        const int32_t i = int32_t(first + k);
+        const int32_t i = int32_t(first + k);  // cell index; its seed is first_seed + i
         // Global id of each local vertex: its rank among the owner's owned vertices.
         gid.clear();
         int32_t rank = 0;
@@ -327,15 +335,16 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
           }
           const int32_t* key = &ch.other_keys[other];
           other += len;
-          // The owner is the smallest seed among the name and this cell; it is not this cell.
-          const int32_t owner = owner_of(key, len);
+          // The owner is the smallest built seed among the name and this cell; it is not this
+          // cell. Names hold seed indices; `owner` and `i` here are cell indices.
+          const int32_t owner = owner_of(key, len, first_seed) - first_seed;
           const CellChunk& oc = chunks[owner / kCellsPerChunk];
           const size_t ok = owner % kCellsPerChunk;
           uint32_t okb = oc.owned_key_begin[ok];
           int32_t found = -1;
           for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
             const int olen = oc.owned_key_len[w];
-            if (olen == len && same_vertex(key, i, &oc.owned_keys[okb], owner, len)) {
+            if (olen == len && same_vertex(key, i + first_seed, &oc.owned_keys[okb], owner + first_seed, len)) {
               found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
               break;
             }

@@ -13,9 +13,18 @@ struct TessellationTimes {
   double assembly = 0;  // seconds giving shared vertices one id
 };
 
+// Seeds [begin, end) of a sample; end < 0: all.
+struct SeedRange {
+  int32_t begin = 0, end = -1;
+};
+
+// Builds the cells of the seeds in `built` (default all), cell k for seed built.begin + k; a face
+// toward a seed outside `built` gets the generator kOtherPiece (froth/mesh.hpp), and a vertex
+// is owned by the smallest built seed of its name.
 // Throws Error(Internal) if a cell cannot be closed by its neighbours (the sample is not maximal)
 // or two cells disagree on a shared vertex.
 // Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
-PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times);
+PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
+                            SeedRange built = {});
 
 }  // namespace froth

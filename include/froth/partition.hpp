@@ -1,0 +1,69 @@
+// One mesh split over several processes (froth mesh --partition under mpirun): the background
+// grid is cut into slabs of z layers, one per rank, and each rank samples, builds and writes the
+// cells of the seeds in its slab. The sample and the cells are the serial ones: the sampling
+// schedule is defined on the global grid (src/sampling/mps.cpp), and a rank sees every seed within
+// the halo its decisions depend on.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+// What the partitioned pipeline needs from the processes: ranks 0 .. size-1 in a line of slabs.
+// The library has no MPI dependency; froth's command line provides an MPI implementation and the
+// tests one made of threads. Every rank makes the same sequence of calls.
+class Communicator {
+ public:
+  using Bytes = std::vector<uint8_t>;
+  virtual ~Communicator() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Sends to_lower to rank - 1 and to_upper to rank + 1 (dropped at the ends of the line) and
+  // returns what rank - 1 sent up in from_lower and what rank + 1 sent down in from_upper.
+  virtual void exchange_with_neighbours(const Bytes& to_lower, const Bytes& to_upper, Bytes& from_lower,
+                                        Bytes& from_upper) = 0;
+  // Every rank's bytes, in rank order, on every rank.
+  virtual std::vector<Bytes> all_gather(const Bytes& mine) = 0;
+};
+
+// A rank's slab and its halos, in layers of base cubes (z index of the sampling grid).
+struct Slab {
+  int owned_begin = 0, owned_end = 0;  // layers this rank owns
+  int window_begin = 0, window_end = 0;  // with the halo, clamped to the grid
+};
+
+// Halo widths, in layers of base cubes (side r/sqrt(3)). Sampling: darts and seeds within r of
+// an owned cube, r / side = sqrt(3) < 2 layers. Cells: a rank builds its own cells and a ring of
+// ghost cells around them so that welding sees every short edge at an owned vertex (the cells
+// sharing a vertex of an owned cell have seeds within 2r of an owned seed, Lemma 1: 2 sqrt(3) < 4
+// layers, plus one layer for chains of short edges); each of those cells needs the seeds within
+// 2r of its own, 4 more layers.
+constexpr int kSamplingHaloLayers = 2;
+constexpr int kGhostCellLayers = 5;
+constexpr int kCellHaloLayers = kGhostCellLayers + 4;
+
+// The slab of `rank` among `ranks` on a grid of nz layers (equal shares). Throws Error(Usage) when
+// a slab would be thinner than kCellHaloLayers, as the halo must come from the neighbours alone.
+Slab slab_of(int rank, int ranks, int nz);
+
+struct PartitionReport {
+  int rank = 0, ranks = 1;
+  Slab slab;
+  int64_t first_seed = 0;       // global index of this rank's first cell (cells follow seed order)
+  size_t owned_seeds = 0;       // seeds, and cells, of this rank
+  size_t ghost_seeds = 0;       // seeds of other ranks this rank holds for its cells (the halo)
+  size_t ghost_cells = 0;       // cells built only for welding, then dropped
+  size_t partition_faces = 0;   // faces shared with another rank's cells
+  size_t exchanges = 0;         // neighbour exchanges during sampling
+};
+
+// This rank's piece of the mesh generate_mesh would make: the cells of the seeds in its slab, in
+// global seed order, with its own point numbering. Interior faces toward another rank's cell have
+// a generator of another piece (froth/mesh.hpp). report: this rank's figures (volume_sum is the
+// piece's). Every rank must call it with the same domain and options. Throws Error.
+PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& options, Communicator& comm,
+                             RunReport* report, PartitionReport* partition);
+
+}  // namespace froth
