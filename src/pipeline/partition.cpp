@@ -163,8 +163,8 @@ PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& othe
       if (size_t(g) >= begin && size_t(g) < end) {
         g -= int32_t(begin);
       } else {
-        // A cell of the ring (an owned cell's neighbours are all built).
-        g = m.kinds.at(size_t(g)) >= CellKind::Edge ? kOtherPieceProtected : kOtherPiece;
+        // A cell outside the range: built (its kind is known), or not.
+        if (!is_other_piece_generator(g)) g = m.kinds[size_t(g)] >= CellKind::Edge ? kOtherPieceProtected : kOtherPiece;
         ++other_piece_faces;
       }
     }
