@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "communicators.hpp"
 #include "froth/froth.hpp"
 
 namespace {
@@ -30,6 +31,7 @@ struct MeshArgs {
   bool no_quality = false;
   double feature_angle = froth::kDefaultFeatureAngle;
   bool repair = false;
+  bool partition = false;
 };
 
 std::string default_output(const std::string& input) {
@@ -125,6 +127,69 @@ int run_mesh(const MeshArgs& a) {
   if (!a.report.empty()) froth::write_report_json(run, a.report);
   run.stages.pop_back();
   print_summary(run, output, write_seconds);
+  return 0;
+}
+
+// One mesh over all ranks (froth/partition.hpp): each rank writes its piece,
+// OUT/OUT_<rank>.vtu beside OUT.pvtu, and rank 0 the .pvtu, the report and the summary once every
+// piece is written. A rank that fails while the others wait for it aborts the run.
+int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
+  std::filesystem::path output = a.output.empty() ? default_output(a.input) : a.output;
+  if (output.extension() == ".vtu") output.replace_extension(".pvtu");
+  if (output.extension() != ".pvtu")
+    froth::fail(froth::ErrorKind::Usage, fmt::format("--partition writes a .pvtu file, not {}", output.string()));
+  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+  froth::MeshOptions opt;
+  opt.r = a.r;
+  opt.seed = a.seed;
+  opt.weld = weld_tolerance(a.weld, a.r);
+  opt.threads = a.threads;
+  opt.quality = !a.no_quality;
+  if (comm.rank() == 0 && isatty(STDERR_FILENO))
+    opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
+  froth::RunReport run;
+  froth::PartitionReport part;
+  froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
+
+  const std::string stem = output.stem().string();
+  const std::filesystem::path dir = output.parent_path() / stem;
+  const std::string relative = fmt::format("{}/{}_{}.vtu", stem, stem, comm.rank());
+  auto t0 = std::chrono::steady_clock::now();
+  if (opt.progress) opt.progress("writing");
+  int code = 0;
+  try {
+    std::filesystem::create_directories(dir);
+    froth::write_vtu(piece, run, output.parent_path() / relative);
+  } catch (const froth::Error& e) {
+    fmt::print(stderr, "froth: error (rank {}): {}\n", comm.rank(), e.what());
+    code = e.exit_code();
+  } catch (const std::filesystem::filesystem_error& e) {
+    fmt::print(stderr, "froth: error (rank {}): cannot create {}: {}\n", comm.rank(), dir.string(), e.what());
+    code = 4;
+  }
+  // Every piece is written (or every rank removes its own) before the .pvtu names them.
+  for (const auto& c : comm.all_gather({uint8_t(code)})) code = std::max<int>(code, c.at(0));
+  if (code != 0) {
+    std::filesystem::remove(output.parent_path() / relative);
+    return code;
+  }
+  const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
+  froth::PartitionSummary all = froth::combine_rank_reports(comm, run, part);
+  if (comm.rank() != 0) return 0;
+  std::vector<std::string> pieces;
+  for (int k = 0; k < comm.size(); ++k) pieces.push_back(fmt::format("{}/{}_{}.vtu", stem, stem, k));
+  froth::write_pvtu(pieces, opt.quality, output);
+  if (!a.report.empty()) froth::write_report_json(all.run, a.report, &all);
+  all.run.stages.pop_back();
+  print_summary(all.run, output.string(), write_seconds);
+  size_t owned = 0, ghosts = 0, shared = 0;
+  for (const auto& p : all.ranks) owned += p.owned_seeds, ghosts += p.ghost_seeds, shared += p.partition_faces;
+  fmt::print("froth: partitioned over {} rank{} in slabs of z layers: {} to {} cells per rank, halo {} ghost seeds "
+             "({:.3f} per owned seed), {} cell faces shared between ranks (each counted from both sides).\n",
+             comm.size(), comm.size() == 1 ? "" : "s", std::min_element(all.ranks.begin(), all.ranks.end(), [](auto& x, auto& y) { return x.owned_seeds < y.owned_seeds; })->owned_seeds,
+             std::max_element(all.ranks.begin(), all.ranks.end(), [](auto& x, auto& y) { return x.owned_seeds < y.owned_seeds; })->owned_seeds,
+             ghosts, owned ? double(ghosts) / double(owned) : 0.0, shared);
   return 0;
 }
 
@@ -254,6 +319,30 @@ int run_quality(const QualityArgs& a) {
 
 }  // namespace
 
+// --partition: errors on one rank while the others wait in an exchange abort the whole run.
+static int run_partitioned(const MeshArgs& a, const World& world) {
+#ifdef FROTH_MPI
+  froth_cli::MpiCommunicator comm;
+#else
+  froth_cli::SoloCommunicator comm;
+#endif
+  int code = 0;
+  try {
+    return run_mesh_partitioned(a, comm);
+  } catch (const froth::Error& e) {
+    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
+    code = e.exit_code();
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "froth: internal error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "",
+               e.what());
+    code = 5;
+  }
+#ifdef FROTH_MPI
+  if (world.size > 1) MPI_Abort(MPI_COMM_WORLD, code);
+#endif
+  return code;
+}
+
 int froth_main(int argc, char** argv, const World& world) {
   CLI::App app{"froth: uniform random Voronoi meshes by maximal Poisson-disk sampling"};
   app.set_version_flag("--version", FROTH_VERSION);
@@ -275,6 +364,9 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_option("--feature-angle", a.feature_angle,
                    "input edges turning by more than this many degrees are features (default 30)");
   mesh->add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
+  mesh->add_flag("--partition", a.partition,
+                 "split the mesh over the MPI ranks (slabs of the sampling grid along z); writes a .pvtu with one "
+                 "piece per rank, the same cells as one process makes");
   EnsembleArgs ea;
   CLI::App* ensemble = app.add_subcommand("ensemble", "make N independent meshes of one domain (resumable)");
   ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
@@ -311,7 +403,8 @@ int froth_main(int argc, char** argv, const World& world) {
       return e.exit_code();
     }
   }
-  // One mesh is made by one process (splitting one mesh over ranks is not implemented yet).
+  if (mesh->parsed() && a.partition) return run_partitioned(a, world);
+  // Otherwise one mesh is made by one process.
   if (world.rank != 0) return 0;
   try {
     if (mesh->parsed()) return run_mesh(a);

@@ -2,6 +2,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "froth/mesh.hpp"
 
@@ -10,6 +11,11 @@ namespace froth {
 // VTK XML UnstructuredGrid of VTK_POLYHEDRON cells, appended raw binary. Cell data: seed,
 // kind, volume; field data: r, random_seed, weld, version.
 void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path);
+
+// The parallel VTU (.pvtu) that gathers the pieces of a partitioned run (froth/partition.hpp),
+// each written by write_vtu; `pieces` are their paths relative to the .pvtu's folder. The pieces
+// must all have the per-cell quality arrays or none.
+void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const std::filesystem::path& path);
 
 // A polyhedral VTU (any VTK writer: ascii, base64 or appended raw data, zlib-compressed or not)
 // as a mesh: cells must be VTK_POLYHEDRON. Faces shared by two cells become interior faces;
@@ -21,8 +27,11 @@ struct QualityReport;
 // A quality report on its own (froth quality), for the mesh file named.
 void write_quality_json(const QualityReport& q, const std::string& mesh, const std::filesystem::path& path);
 
-// The run report as JSON.
-void write_report_json(const RunReport& run, const std::filesystem::path& path);
-std::string report_json_text(const RunReport& run);
+// The run report as JSON; a partitioned run's adds a "partition" section (per rank: slab, seeds,
+// halo, time, memory).
+struct PartitionSummary;  // froth/partition.hpp
+void write_report_json(const RunReport& run, const std::filesystem::path& path,
+                       const PartitionSummary* partition = nullptr);
+std::string report_json_text(const RunReport& run, const PartitionSummary* partition = nullptr);
 
 }  // namespace froth

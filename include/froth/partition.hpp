@@ -66,4 +66,16 @@ struct PartitionReport {
 PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& options, Communicator& comm,
                              RunReport* report, PartitionReport* partition);
 
+// The whole run from the ranks' reports: counts, volumes and areas summed in rank order, quality
+// merged, each stage's time the slowest rank's, peak memory the largest rank's; and each rank's
+// partition figures. Welding figures count each rank's ghost ring too, so merges next to a slab
+// face are counted by both ranks. Every rank calls it and gets the same result.
+struct PartitionSummary {
+  RunReport run;
+  std::vector<PartitionReport> ranks;
+  std::vector<double> rank_seconds;     // each rank's total
+  std::vector<size_t> rank_peak_rss;    // each rank's peak resident memory, bytes
+};
+PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine, const PartitionReport& part);
+
 }  // namespace froth

@@ -60,6 +60,9 @@ struct QualityReport {
 // result does not depend on their number.
 QualityReport assess_quality(const PolyMesh& mesh, std::vector<CellQuality>* per_cell = nullptr);
 
+// Adds `from` (another set of cells: a chunk, or another rank's piece) to `into`.
+void merge_quality(QualityReport& into, const QualityReport& from);
+
 // The report as JSON text (schema: docs/quality-report.schema.json).
 std::string quality_json_text(const QualityReport& q);
 

@@ -2,13 +2,14 @@
 #include <nlohmann/json.hpp>
 
 #include "froth/io.hpp"
+#include "froth/partition.hpp"
 #include "froth/quality.hpp"
 #include "froth/weld.hpp"
 #include "io/atomic_file.hpp"
 
 namespace froth {
 
-std::string report_json_text(const RunReport& run) {
+std::string report_json_text(const RunReport& run, const PartitionSummary* partition) {
   nlohmann::ordered_json j;
   j["froth_version"] = FROTH_VERSION;
   j["input"] = {{"domain", run.domain}, {"r", run.r}, {"random_seed", run.seed}, {"weld", run.weld},
@@ -75,6 +76,31 @@ std::string report_json_text(const RunReport& run) {
   j["peak_memory_bytes_after_stage"] = peaks;
   j["seconds_total"] = run.total_seconds;
   j["peak_memory_bytes"] = run.peak_rss_bytes;
+  if (partition) {
+    size_t owned = 0, ghosts = 0;
+    nlohmann::ordered_json ranks = nlohmann::ordered_json::array();
+    for (size_t k = 0; k < partition->ranks.size(); ++k) {
+      const PartitionReport& p = partition->ranks[k];
+      owned += p.owned_seeds, ghosts += p.ghost_seeds;
+      ranks.push_back({{"rank", p.rank},
+                       {"layers", {p.slab.owned_begin, p.slab.owned_end}},
+                       {"first_seed", p.first_seed},
+                       {"seeds", p.owned_seeds},
+                       {"ghost_seeds", p.ghost_seeds},
+                       {"ghost_cells", p.ghost_cells},
+                       {"faces_shared_with_other_ranks", p.partition_faces},
+                       {"sampling_exchanges", p.exchanges},
+                       {"seconds", partition->rank_seconds[k]},
+                       {"peak_memory_bytes", partition->rank_peak_rss[k]}});
+    }
+    j["partition"] = {{"ranks", partition->ranks.size()},
+                      {"axis", "z"},
+                      {"sampling_halo_layers", kSamplingHaloLayers},
+                      {"cell_halo_layers", kCellHaloLayers},
+                      {"ghost_cell_layers", kGhostCellLayers},
+                      {"ghost_over_owned_seeds", owned ? double(ghosts) / double(owned) : 0.0},
+                      {"per_rank", ranks}};
+  }
   return j.dump(2) + "\n";
 }
 
@@ -88,8 +114,8 @@ void write_quality_json(const QualityReport& q, const std::string& mesh, const s
   write_atomically(path, [&](std::ostream& o) { o << text; });
 }
 
-void write_report_json(const RunReport& run, const std::filesystem::path& path) {
-  std::string text = report_json_text(run);
+void write_report_json(const RunReport& run, const std::filesystem::path& path, const PartitionSummary* partition) {
+  std::string text = report_json_text(run, partition);
   write_atomically(path, [&](std::ostream& out) { out << text; });
 }
 

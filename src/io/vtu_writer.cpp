@@ -14,6 +14,12 @@
 namespace froth {
 namespace {
 
+// The per-cell quality arrays (cell data), when the quality stage ran.
+constexpr std::pair<const char*, double CellQuality::*> kQualityFields[] = {
+    {"aspect", &CellQuality::aspect},           {"outradius", &CellQuality::outradius},
+    {"inradius", &CellQuality::inradius},       {"min_dihedral", &CellQuality::min_dihedral},
+    {"max_dihedral", &CellQuality::max_dihedral}, {"min_edge", &CellQuality::min_edge}};
+
 constexpr uint8_t kVtkPolyhedron = 42;
 
 // Appended raw data: each block is a UInt64 byte count and the bytes. Blocks are produced by
@@ -212,12 +218,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
           },
           "Float64", name);
     };
-    field("aspect", &CellQuality::aspect);
-    field("outradius", &CellQuality::outradius);
-    field("inradius", &CellQuality::inradius);
-    field("min_dihedral", &CellQuality::min_dihedral);
-    field("max_dihedral", &CellQuality::max_dihedral);
-    field("min_edge", &CellQuality::min_edge);
+    for (const auto& [name, member] : kQualityFields) field(name, member);
   }
   xml << "</CellData>\n"
       << "</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
@@ -226,6 +227,22 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
     w.write(out);
     out << "\n</AppendedData>\n</VTKFile>\n";
   });
+}
+
+void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const std::filesystem::path& path) {
+  std::ostringstream xml;
+  xml << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "<PUnstructuredGrid GhostLevel=\"0\">\n"
+      << "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
+      << "<PCellData>\n<PDataArray type=\"Float64\" Name=\"seed\" NumberOfComponents=\"3\"/>\n"
+      << "<PDataArray type=\"Int32\" Name=\"kind\"/>\n<PDataArray type=\"Float64\" Name=\"volume\"/>\n";
+  if (with_quality)
+    for (const auto& [name, member] : kQualityFields) xml << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
+  xml << "</PCellData>\n";
+  for (const std::string& p : pieces) xml << fmt::format("<Piece Source=\"{}\"/>\n", p);
+  xml << "</PUnstructuredGrid>\n</VTKFile>\n";
+  write_atomically(path, [&](std::ostream& out) { out << xml.str(); });
 }
 
 }  // namespace froth

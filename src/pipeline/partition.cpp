@@ -4,10 +4,14 @@
 #include <algorithm>
 #include <cstring>
 #include <functional>
+#include <optional>
+#include <type_traits>
 
 #include <fmt/format.h>
 
 #include "froth/error.hpp"
+#include "froth/quality.hpp"
+#include "froth/weld.hpp"
 
 namespace froth {
 
@@ -175,6 +179,150 @@ PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& othe
   out.face_vertices.resize(size_t(v1 - v0));
   for (int64_t k = v0; k < v1; ++k) out.face_vertices[k - v0] = id[m.face_vertices[k]];
   return out;
+}
+
+}  // namespace froth
+
+namespace froth {
+namespace {
+
+// Plain values in and out of bytes, for the reports the ranks trade.
+class Packer {
+ public:
+  template <class T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const uint8_t*>(&v);
+    bytes.insert(bytes.end(), p, p + sizeof v);
+  }
+  void put(const QualityReport& q) {
+    put(q.cells), put(q.aspect), put(q.outradius), put(q.inradius), put(q.min_edge), put(q.faces), put(q.dihedral);
+    for (const auto& h : q.aspect_histogram) put(h);
+    for (const auto& h : q.dihedral_histogram) put(h);
+    put(q.theorem1_violations), put(q.lemma6_interior_violations), put(q.lemma6_border_violations);
+    put(q.shortest_edge);
+  }
+  void put(const Histogram& h) {
+    put(h.lo), put(h.hi), put(uint64_t(h.counts.size()));
+    for (uint64_t c : h.counts) put(c);
+  }
+  Communicator::Bytes bytes;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const Communicator::Bytes& b) : b_(b) {}
+  template <class T>
+  void get(T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if (at_ + sizeof v > b_.size()) fail(ErrorKind::Internal, "a rank's report is truncated");
+    std::memcpy(static_cast<void*>(&v), b_.data() + at_, sizeof v);
+    at_ += sizeof v;
+  }
+  void get(QualityReport& q) {
+    get(q.cells), get(q.aspect), get(q.outradius), get(q.inradius), get(q.min_edge), get(q.faces), get(q.dihedral);
+    for (auto& h : q.aspect_histogram) get(h);
+    for (auto& h : q.dihedral_histogram) get(h);
+    get(q.theorem1_violations), get(q.lemma6_interior_violations), get(q.lemma6_border_violations);
+    get(q.shortest_edge);
+  }
+  void get(Histogram& h) {
+    uint64_t n = 0;
+    get(h.lo), get(h.hi), get(n);
+    h.counts.resize(n);
+    for (uint64_t& c : h.counts) get(c);
+  }
+
+ private:
+  const Communicator::Bytes& b_;
+  size_t at_ = 0;
+};
+
+}  // namespace
+
+PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine, const PartitionReport& part) {
+  Packer out;
+  out.put(part);
+  out.put(mine.cells), out.put(mine.interior_cells), out.put(mine.fringe_cells), out.put(mine.edge_cells),
+      out.put(mine.vertex_cells), out.put(mine.faces), out.put(mine.points), out.put(mine.not_star_shaped);
+  out.put(mine.volume_sum), out.put(mine.border_area), out.put(mine.star_violation), out.put(mine.total_seconds),
+      out.put(mine.peak_rss_bytes), out.put(mine.weld_aspect_shift), out.put(mine.weld_dihedral_shift);
+  out.put(uint64_t(mine.stages.size()));
+  for (const StageTiming& s : mine.stages) out.put(s.seconds), out.put(s.peak_rss_bytes);
+  out.put(bool(mine.welding));
+  if (mine.welding) out.put(*mine.welding);
+  for (const auto* q : {&mine.quality, &mine.bounds_before_weld}) {
+    out.put(bool(*q));
+    if (*q) out.put(**q);
+  }
+
+  PartitionSummary sum;
+  RunReport& run = sum.run;
+  run = mine;
+  run.cells = run.interior_cells = run.fringe_cells = run.edge_cells = run.vertex_cells = 0;
+  run.faces = run.points = run.not_star_shaped = 0;
+  run.volume_sum = run.border_area = run.star_violation = run.total_seconds = 0;
+  run.peak_rss_bytes = 0;
+  run.weld_aspect_shift = run.weld_dihedral_shift = 0;
+  for (StageTiming& s : run.stages) s.seconds = 0, s.peak_rss_bytes = 0;
+  std::optional<WeldStats> weld;
+  std::optional<QualityReport> quality[2];
+  for (const Communicator::Bytes& bytes : comm.all_gather(out.bytes)) {
+    Unpacker in(bytes);
+    PartitionReport p;
+    in.get(p);
+    sum.ranks.push_back(p);
+    size_t n[8];
+    for (size_t& v : n) in.get(v);
+    run.cells += n[0], run.interior_cells += n[1], run.fringe_cells += n[2], run.edge_cells += n[3];
+    run.vertex_cells += n[4], run.faces += n[5], run.points += n[6], run.not_star_shaped += n[7];
+    double volume, area, star, seconds, aspect_shift, dihedral_shift;
+    size_t peak;
+    in.get(volume), in.get(area), in.get(star), in.get(seconds), in.get(peak), in.get(aspect_shift),
+        in.get(dihedral_shift);
+    run.volume_sum += volume, run.border_area += area, run.star_violation = std::max(run.star_violation, star);
+    run.total_seconds = std::max(run.total_seconds, seconds), run.peak_rss_bytes = std::max(run.peak_rss_bytes, peak);
+    run.weld_aspect_shift = std::max(run.weld_aspect_shift, aspect_shift);
+    run.weld_dihedral_shift = std::max(run.weld_dihedral_shift, dihedral_shift);
+    sum.rank_seconds.push_back(seconds), sum.rank_peak_rss.push_back(peak);
+    uint64_t stages = 0;
+    in.get(stages);
+    if (stages != run.stages.size()) fail(ErrorKind::Internal, "the ranks ran different stages");
+    for (StageTiming& s : run.stages) {
+      double t;
+      size_t m;
+      in.get(t), in.get(m);
+      s.seconds = std::max(s.seconds, t), s.peak_rss_bytes = std::max(s.peak_rss_bytes, m);
+    }
+    bool has = false;
+    in.get(has);
+    if (has) {
+      WeldStats w;
+      in.get(w);
+      if (!weld) {
+        weld = w;
+      } else {
+        weld->edges_collapsed += w.edges_collapsed, weld->faces_removed += w.faces_removed;
+        weld->clusters_refused += w.clusters_refused, weld->border_area += w.border_area;
+        weld->shortest_edge_before = std::min(weld->shortest_edge_before, w.shortest_edge_before);
+        weld->shortest_edge_after = std::min(weld->shortest_edge_after, w.shortest_edge_after);
+        weld->max_displacement = std::max(weld->max_displacement, w.max_displacement);
+        weld->max_nonplanarity = std::max(weld->max_nonplanarity, w.max_nonplanarity);
+      }
+    }
+    for (auto& q : quality) {
+      in.get(has);
+      if (!has) continue;
+      QualityReport r;
+      in.get(r);
+      if (q) merge_quality(*q, r);
+      else q = std::move(r);
+    }
+  }
+  run.welding = weld ? std::make_shared<const WeldStats>(*weld) : nullptr;
+  run.quality = quality[0] ? std::make_shared<const QualityReport>(*quality[0]) : nullptr;
+  run.bounds_before_weld = quality[1] ? std::make_shared<const QualityReport>(*quality[1]) : nullptr;
+  return sum;
 }
 
 }  // namespace froth

@@ -156,7 +156,9 @@ QualityReport empty_report() {
   return r;
 }
 
-void merge(QualityReport& into, const QualityReport& from) {
+}  // namespace
+
+void merge_quality(QualityReport& into, const QualityReport& from) {
   for (int k = 0; k < QualityReport::kKinds; ++k) {
     into.cells[k] += from.cells[k];
     into.aspect[k].merge(from.aspect[k]);
@@ -175,9 +177,9 @@ void merge(QualityReport& into, const QualityReport& from) {
   into.theorem1_violations += from.theorem1_violations;
   into.lemma6_interior_violations += from.lemma6_interior_violations;
   into.lemma6_border_violations += from.lemma6_border_violations;
+  if (from.shortest_edge > 0 && (into.shortest_edge == 0 || from.shortest_edge < into.shortest_edge))
+    into.shortest_edge = from.shortest_edge;
 }
-
-}  // namespace
 
 void Histogram::add(double v) {
   if (counts.empty()) return;
@@ -252,7 +254,7 @@ QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_ce
     }
   }
   QualityReport all = empty_report();
-  for (const auto& p : parts) merge(all, p);
+  for (const auto& p : parts) merge_quality(all, p);
   double shortest = INFINITY;
   for (const auto& s : all.min_edge)
     if (s.count) shortest = std::min(shortest, s.min);
