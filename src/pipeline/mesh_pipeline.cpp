@@ -238,6 +238,17 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   measure_star_shape(domain, ring, opt, run, own_begin, own_end);
   watch.lap();
   WeldedCells welded_ring = weld_stage(ring, opt, run, watch);
+  // Every cell at a point within (kGhostCellLayers side - r) of the slab is built (Lemma 1: a
+  // point's cells have seeds within r of it), so every edge there is seen. Owned vertices lie
+  // within r of the slab; a weld cluster moves its vertices to one point, so its diameter is at
+  // most twice the largest displacement, and a cluster at an owned vertex stays in that zone
+  // while it is below the slack.
+  const double slack = kGhostCellLayers * opt.r / std::sqrt(3.0) - 2 * opt.r;
+  if (run.welding && 2 * run.welding->max_displacement >= slack)
+    fail(ErrorKind::Usage, fmt::format("--partition: welding moved a vertex by {:.3g} = {:.3g} r, more than the ghost "
+                                       "cells around a slab can vouch for ({:.3g} r): use a smaller --weld",
+                                       run.welding->max_displacement, run.welding->max_displacement / opt.r,
+                                       slack / 2 / opt.r));
   PolyMesh mesh = extract_cells(ring, own_begin, own_end, part.partition_faces);
   ring = PolyMesh();
   WeldedCells welded;
