@@ -82,7 +82,7 @@ int poisson(double u) {
 class Sampler {
  public:
   Sampler(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition)
-      : domain_(domain), buckets_(domain.bounds, r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling),
+      : domain_(domain), buckets_(window_box(domain.bounds, r, partition), r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling),
         partition_(partition) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     const int64_t layer = int64_t(s_.grid.nx) * s_.grid.ny;
@@ -97,6 +97,16 @@ class Sampler {
     }
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
+  }
+
+  // The part of the domain's bounding box whose seeds this sampler keeps: the slab's window of
+  // layers in a partitioned run.
+  static Box window_box(Box box, double r, const SamplingPartition* partition) {
+    if (!partition) return box;
+    const BackgroundGrid g = BackgroundGrid::covering(box, r);
+    box.lo.z = g.origin.z + partition->slab.window_begin * g.side;
+    box.hi.z = std::min(box.hi.z, g.origin.z + partition->slab.window_end * g.side);
+    return box;
   }
 
   Sample run() {
@@ -314,7 +324,9 @@ class Sampler {
     const auto& g = s_.grid;
     constexpr int B = 8;
     const int bx = (g.nx + B - 1) / B, by = (g.ny + B - 1) / B, bz = (g.nz + B - 1) / B;
-    const size_t blocks = size_t(bx) * by * bz;
+    // Only the layers of blocks that meet this sampler's slab.
+    const int bz0 = owned_begin_ / B, bz1 = std::min(bz, (owned_end_ + B - 1) / B);
+    const size_t blocks = size_t(bx) * by * (bz1 - bz0);
     std::vector<std::vector<ActiveCube>> cubes(blocks);
     std::vector<std::vector<std::pair<uint32_t, int32_t>>> cuts(blocks);
     std::vector<int32_t> all(domain_.planes.size());
@@ -322,8 +334,7 @@ class Sampler {
     const bool convex = domain_.convex;
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t blk = 0; blk < blocks; ++blk) {
-      const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = int(blk / (size_t(bx) * by)) * B;
-      if (k0 + B <= owned_begin_ || k0 >= owned_end_) continue;  // another rank's slab
+      const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = (bz0 + int(blk / (size_t(bx) * by))) * B;
       std::vector<int32_t> block_cut, cube_cut, near;
       // The block as a cube of side B * side (it may stick out of the grid: harmless).
       const Vec3 block_lo = g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side};
@@ -461,7 +472,7 @@ class Sampler {
       const size_t n = bytes->size() / sizeof(Candidate);
       const size_t at = rs.all.size();
       rs.all.resize(at + n);
-      std::memcpy(static_cast<void*>(rs.all.data() + at), bytes->data(), n * sizeof(Candidate));
+      if (n > 0) std::memcpy(static_cast<void*>(rs.all.data() + at), bytes->data(), n * sizeof(Candidate));
       rs.source.resize(at + n, bytes == &below ? 1 : 2);
     }
     std::vector<uint32_t> perm(rs.all.size());
