@@ -353,6 +353,24 @@ for k in range(5):
           f"killed and resumed {name} differs from the uninterrupted run's")
 check(not [f for f in os.listdir(killed) if ".tmp" in f], "the resumed ensemble left temporary files")
 
+# --partition in one process (no MPI in this build, or one rank): a .pvtu of one piece that VTK
+# reads as the serial mesh; a non-.pvtu output is a usage error.
+serial_out, part_out = os.path.join(tmp, "serial_box.vtu"), os.path.join(tmp, "part_box.pvtu")
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--seed", "4", "-o", serial_out)
+check(p.returncode == 0, f"serial mesh: {p.stderr}")
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--seed", "4", "--partition", "-o", part_out)
+check(p.returncode == 0 and "partitioned over 1 rank in" in p.stdout, f"--partition: {p.returncode} {p.stdout} {p.stderr}")
+pr = vtk.vtkXMLPUnstructuredGridReader()
+pr.SetFileName(part_out)
+pr.Update()
+pg, sg = pr.GetOutput(), read_vtk(serial_out)
+check(pg.GetNumberOfCells() == sg.GetNumberOfCells() > 0, f"--partition: {pg.GetNumberOfCells()} cells")
+check(np.array_equal(vtk_to_numpy(pg.GetCellData().GetArray("volume")), vtk_to_numpy(sg.GetCellData().GetArray("volume"))),
+      "--partition: cell volumes differ from the serial mesh's")
+check(os.path.exists(os.path.join(tmp, "part_box", "part_box_0.vtu")), "--partition: piece file")
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--partition", "-o", os.path.join(tmp, "part.vtk"))
+check(p.returncode == 2 and ".pvtu" in p.stderr, f"--partition -o part.vtk: {p.returncode} {p.stderr}")
+
 leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
 check(not leftovers, f"temporary files left: {leftovers}")
 
