@@ -42,6 +42,12 @@ struct NamesLess {
   }
 };
 
+// The unordered pair {a, b} as one key.
+uint64_t generator_pair(int32_t a, int32_t b) {
+  if (a > b) std::swap(a, b);
+  return uint64_t(uint32_t(a)) << 32 | uint32_t(b);
+}
+
 // Generators of V's own faces: seeds and the bounding cube (input elements are other negatives).
 bool is_cell_generator(int32_t g) { return g >= 0 || ConvexCell::is_cube_generator(g); }
 
@@ -240,7 +246,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
 
   // 1. Each nearby triangle clipped by V (Sutherland-Hodgman), its points named as they arise.
   std::vector<std::vector<Edge>> on_face(nf);                    // cross-section edges per V face
-  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> crossings;  // per V edge (its generators)
+  std::vector<std::pair<uint64_t, int32_t>> crossings;  // (V edge's generator pair, point), sorted after step 1
   std::map<int32_t, std::vector<Edge>> border;                   // piece edges per facet plane
   std::vector<PolyVertex> poly, next;
   for (int32_t t : tris) {
@@ -298,7 +304,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       int32_t on[3], m = 0;
       for (int q = 0; q < kk.n; ++q)
         if (is_cell_generator(kk.gen[q])) on[m++] = kk.gen[q];
-      if (m == 2) crossings[{on[0], on[1]}].push_back(u);
+      if (m == 2) crossings.push_back({generator_pair(on[0], on[1]), u});
     }
   }
 
@@ -307,16 +313,40 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   std::vector<Names> vnames;
   cell.vertex_names(vnames);
   for (Names& k : vnames) std::sort(k.gen, k.gen + k.n);
-  std::map<std::pair<int32_t, int32_t>, int32_t> face_of_edge;  // directed V edge -> face
+  // V's directed edges face by face (edge k of face f is edges[edge_begin[f] + k]), each with
+  // the surface crossings on it: those named by the generators of its two faces.
+  std::sort(crossings.begin(), crossings.end());
+  struct VEdge {
+    int32_t u, w;
+    uint32_t cross_begin, cross_end;  // into crossings
+    size_t count() const { return cross_end - cross_begin; }
+  };
+  std::vector<VEdge> edges;
+  std::vector<uint32_t> edge_begin(nf + 1, 0);
+  std::vector<std::pair<uint32_t, int32_t>> face_of_edge;  // (u << 16 | w, face), sorted
   for (size_t f = 0; f < nf; ++f) {
     const uint16_t* fv = cell.face_begin(f);
-    for (size_t k = 0; k < cell.face_size(f); ++k) face_of_edge[{fv[k], fv[(k + 1) % cell.face_size(f)]}] = int32_t(f);
+    const size_t n = cell.face_size(f);
+    for (size_t k = 0; k < n; ++k) face_of_edge.push_back({uint32_t(fv[k]) << 16 | fv[(k + 1) % n], int32_t(f)});
   }
-  auto edge_crossings = [&](int32_t u, int32_t w) -> std::vector<int32_t>* {
-    int32_t g1 = cell.face_generator(face_of_edge.at({u, w})), g2 = cell.face_generator(face_of_edge.at({w, u}));
-    auto it = crossings.find({std::min(g1, g2), std::max(g1, g2)});
-    return it == crossings.end() ? nullptr : &it->second;
-  };
+  std::sort(face_of_edge.begin(), face_of_edge.end());
+  for (size_t f = 0; f < nf; ++f) {
+    const uint16_t* fv = cell.face_begin(f);
+    const size_t n = cell.face_size(f);
+    for (size_t k = 0; k < n; ++k) {
+      const int32_t u = fv[k], w = fv[(k + 1) % n];
+      const auto twin = std::lower_bound(face_of_edge.begin(), face_of_edge.end(),
+                                         std::pair<uint32_t, int32_t>{uint32_t(w) << 16 | uint32_t(u), INT32_MIN});
+      if (twin == face_of_edge.end() || twin->first != (uint32_t(w) << 16 | uint32_t(u)))
+        return fail_with("the Voronoi cell's faces do not close");
+      const uint64_t key = generator_pair(cell.face_generator(f), cell.face_generator(size_t(twin->second)));
+      const auto lo = std::lower_bound(crossings.begin(), crossings.end(), std::pair<uint64_t, int32_t>{key, INT32_MIN});
+      auto hi = lo;
+      while (hi != crossings.end() && hi->first == key) ++hi;
+      edges.push_back({u, w, uint32_t(lo - crossings.begin()), uint32_t(hi - crossings.begin())});
+    }
+    edge_begin[f + 1] = uint32_t(edges.size());
+  }
   std::vector<int8_t> status(nv, -1);
   for (size_t v = 0; v < nv; ++v) {
     bool in;
@@ -329,34 +359,29 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     return fail_with("every segment from the seed to a cell vertex grazes the surface (degenerate)");
   for (bool changed = true; changed;) {
     changed = false;
-    for (const auto& [e, f] : face_of_edge) {
-      const auto [u, w] = e;
-      if (status[u] < 0 || status[w] >= 0) continue;
-      const auto* c = edge_crossings(u, w);
-      status[w] = int8_t(status[u] ^ ((c ? c->size() : 0) & 1));
+    for (const VEdge& e : edges) {
+      if (status[e.u] < 0 || status[e.w] >= 0) continue;
+      status[e.w] = int8_t(status[e.u] ^ (e.count() & 1));
       changed = true;
     }
   }
-  for (const auto& [e, f] : face_of_edge) {
-    const auto* c = edge_crossings(e.first, e.second);
-    if (status[e.second] != (status[e.first] ^ int8_t((c ? c->size() : 0) & 1)))
+  for (const VEdge& e : edges)
+    if (status[e.w] != (status[e.u] ^ int8_t(e.count() & 1)))
       return fail_with("the surface crossings along the cell's edges are inconsistent (near-degenerate input)");
-  }
 
   // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
   std::vector<int32_t> face_gen;
   std::vector<std::vector<int32_t>> faces;
   std::vector<std::vector<int32_t>> loops;
+  std::vector<int32_t> along;
   for (size_t f = 0; f < nf; ++f) {
     const int32_t g = cell.face_generator(f);
     std::vector<Edge> segs = on_face[f];
-    const uint16_t* fv = cell.face_begin(f);
-    const size_t n = cell.face_size(f);
-    for (size_t k = 0; k < n; ++k) {
-      const int32_t u = fv[k], w = fv[(k + 1) % n];
+    for (uint32_t e = edge_begin[f]; e < edge_begin[f + 1]; ++e) {
+      const int32_t u = edges[e].u, w = edges[e].w;
       const Vec3 pu = cell.vertex(u), dir = cell.vertex(w) - pu;
-      std::vector<int32_t> along;
-      if (const auto* c = edge_crossings(u, w)) along = *c;
+      along.clear();
+      for (uint32_t c = edges[e].cross_begin; c < edges[e].cross_end; ++c) along.push_back(crossings[c].second);
       std::sort(along.begin(), along.end(),
                 [&](int32_t a, int32_t b) { return dot(pts[a] - pu, dir) < dot(pts[b] - pu, dir); });
       bool in = status[u];
