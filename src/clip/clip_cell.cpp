@@ -72,22 +72,27 @@ Vec3 loop_area(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop) {
 // Chains directed edges into closed loops; false if a point has two outgoing edges or a chain
 // does not close.
 bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t>>& loops) {
-  std::map<int32_t, int32_t> next;
-  for (const Edge& e : edges)
-    if (!next.emplace(e.from, e.to).second) return false;
-  std::map<int32_t, bool> used;
+  std::vector<Edge> next(edges);  // sorted by start point: the edge leaving p is found by bisection
+  std::sort(next.begin(), next.end());
+  for (size_t k = 1; k < next.size(); ++k)
+    if (next[k].from == next[k - 1].from) return false;
+  auto leaving = [&](int32_t p) {
+    auto it = std::lower_bound(next.begin(), next.end(), Edge{p, INT32_MIN});
+    return it != next.end() && it->from == p ? size_t(it - next.begin()) : next.size();
+  };
+  std::vector<uint8_t> used(next.size(), 0);  // per point, by its edge's index in `next`
   for (const Edge& e : edges) {
-    if (used[e.from]) continue;
+    size_t i = leaving(e.from);
+    if (used[i]) continue;
     std::vector<int32_t> loop;
     int32_t p = e.from;
-    while (!used[p]) {
-      used[p] = true;
+    while (i < next.size() && !used[i]) {
+      used[i] = 1;
       loop.push_back(p);
-      auto it = next.find(p);
-      if (it == next.end()) return false;
-      p = it->second;
+      p = next[i].to;
+      i = leaving(p);
     }
-    if (p != e.from) return false;
+    if (i == next.size() || p != e.from) return false;
     loops.push_back(std::move(loop));
   }
   return true;
