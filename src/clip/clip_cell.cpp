@@ -328,23 +328,30 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   };
   std::vector<VEdge> edges;
   std::vector<uint32_t> edge_begin(nf + 1, 0);
-  std::vector<std::pair<uint32_t, int32_t>> face_of_edge;  // (u << 16 | w, face), sorted
-  for (size_t f = 0; f < nf; ++f) {
-    const uint16_t* fv = cell.face_begin(f);
-    const size_t n = cell.face_size(f);
-    for (size_t k = 0; k < n; ++k) face_of_edge.push_back({uint32_t(fv[k]) << 16 | fv[(k + 1) % n], int32_t(f)});
+  // The directed edges leaving each vertex (three, generically), with their faces.
+  std::vector<uint32_t> out_begin(nv + 1, 0);
+  for (size_t f = 0; f < nf; ++f)
+    for (size_t k = 0; k < cell.face_size(f); ++k) ++out_begin[cell.face_begin(f)[k] + 1];
+  for (size_t v = 0; v < nv; ++v) out_begin[v + 1] += out_begin[v];
+  std::vector<std::pair<int32_t, int32_t>> out_edge(out_begin[nv]);  // (to, face)
+  {
+    std::vector<uint32_t> fill(out_begin.begin(), out_begin.end() - 1);
+    for (size_t f = 0; f < nf; ++f) {
+      const uint16_t* fv = cell.face_begin(f);
+      const size_t n = cell.face_size(f);
+      for (size_t k = 0; k < n; ++k) out_edge[fill[fv[k]]++] = {fv[(k + 1) % n], int32_t(f)};
+    }
   }
-  std::sort(face_of_edge.begin(), face_of_edge.end());
   for (size_t f = 0; f < nf; ++f) {
     const uint16_t* fv = cell.face_begin(f);
     const size_t n = cell.face_size(f);
     for (size_t k = 0; k < n; ++k) {
       const int32_t u = fv[k], w = fv[(k + 1) % n];
-      const auto twin = std::lower_bound(face_of_edge.begin(), face_of_edge.end(),
-                                         std::pair<uint32_t, int32_t>{uint32_t(w) << 16 | uint32_t(u), INT32_MIN});
-      if (twin == face_of_edge.end() || twin->first != (uint32_t(w) << 16 | uint32_t(u)))
-        return fail_with("the Voronoi cell's faces do not close");
-      const uint64_t key = generator_pair(cell.face_generator(f), cell.face_generator(size_t(twin->second)));
+      int32_t twin = -1;  // the face on the other side: the one with the edge w -> u
+      for (uint32_t o = out_begin[w]; o < out_begin[w + 1]; ++o)
+        if (out_edge[o].first == u) twin = out_edge[o].second;
+      if (twin < 0) return fail_with("the Voronoi cell's faces do not close");
+      const uint64_t key = generator_pair(cell.face_generator(f), cell.face_generator(size_t(twin)));
       const auto lo = std::lower_bound(crossings.begin(), crossings.end(), std::pair<uint64_t, int32_t>{key, INT32_MIN});
       auto hi = lo;
       while (hi != crossings.end() && hi->first == key) ++hi;
