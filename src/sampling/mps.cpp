@@ -329,6 +329,7 @@ class Sampler {
     const size_t blocks = size_t(bx) * by * (bz1 - bz0);
     std::vector<std::vector<ActiveCube>> cubes(blocks);
     std::vector<std::vector<std::pair<uint32_t, int32_t>>> cuts(blocks);
+    std::vector<std::vector<std::pair<uint32_t, Reference>>> refs(blocks);
     std::vector<int32_t> all(domain_.planes.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = int32_t(i);
     const bool convex = domain_.convex;
@@ -356,6 +357,16 @@ class Sampler {
             if (c < 0) continue;
             cubes[blk].push_back({b, 0, 0, c > 0 ? ActiveCube::kInside : 0});
             for (int32_t id : cube_cut) cuts[blk].push_back({b, id});
+            if (!convex && c == 0) {
+              // The cube's reference point for inside tests: its centre, by parity from the
+              // block's (only the block's triangles can cross the segment), or, if the centre
+              // lies on the surface or the segment grazes it, a point nudged off it.
+              const Vec3 centre = base_origin(b) + Vec3{g.side / 2, g.side / 2, g.side / 2};
+              Reference ref{centre, false};
+              if (!domain_.locator->side_from(block_ref.p, block_ref.inside, centre, block_cut, ref.inside))
+                ref = reference_near(centre, g.side);
+              refs[blk].push_back({b, ref});
+            }
           }
     }
     std::vector<std::pair<uint32_t, int32_t>> pairs = concatenate(cuts);
@@ -370,14 +381,10 @@ class Sampler {
     }
     boundary_begin_.push_back(uint32_t(pairs.size()));
     if (!convex) {
-      // Each boundary cube's reference point for inside tests: its centre, or a point nudged
-      // off the surface if the centre lies on it.
-      boundary_ref_.resize(boundary_base_.size());
-#pragma omp parallel for schedule(dynamic, 64)
-      for (size_t k = 0; k < boundary_base_.size(); ++k) {
-        const double h = g.side;
-        boundary_ref_[k] = reference_near(base_origin(boundary_base_[k]) + Vec3{h / 2, h / 2, h / 2}, h);
-      }
+      std::vector<std::pair<uint32_t, Reference>> all_refs = concatenate(refs);
+      std::sort(all_refs.begin(), all_refs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      boundary_ref_.resize(all_refs.size());
+      for (size_t k = 0; k < all_refs.size(); ++k) boundary_ref_[k] = all_refs[k].second;  // in boundary_base_ order
     }
     return concatenate(cubes);
   }
