@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <map>
 #include <cstring>
@@ -525,8 +526,9 @@ class Sampler {
     enum : uint8_t { Undecided, Accepted, Rejected };
     const std::vector<Candidate>& all = rs.all;
     const size_t n = all.size();
-    // Candidates bucketed in cubes of side r over their bounding box (counting sort; ascending
-    // index in each bucket).
+    // Candidates bucketed in cubes of side r over their bounding box, the cubes hashed into 2n
+    // slots so that a sparse round over a large box costs O(n) (counting sort; ascending index
+    // in each slot). Cubes that share a slot only add candidates the exact test then skips.
     Box box{all.empty() ? Vec3{} : all[0].p, all.empty() ? Vec3{} : all[0].p};
     for (const Candidate& c : all)
       for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], c.p[a]), box.hi[a] = std::max(box.hi[a], c.p[a]);
@@ -537,12 +539,16 @@ class Sampler {
       j = std::clamp(int((p.y - box.lo.y) / r_), 0, ny - 1);
       k = std::clamp(int((p.z - box.lo.z) / r_), 0, nz - 1);
     };
-    std::vector<uint32_t> begin(size_t(nx) * ny * nz + 1, 0), order(n);
+    const size_t slots = std::bit_ceil(std::max<size_t>(2 * n, 1));
+    auto slot = [&](int i, int j, int k) {
+      return size_t((uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u)) & (slots - 1);
+    };
+    std::vector<uint32_t> begin(slots + 1, 0), order(n);
     std::vector<uint32_t> key(n);
     for (size_t c = 0; c < n; ++c) {
       int i, j, k;
       cell(all[c].p, i, j, k);
-      key[c] = uint32_t((size_t(k) * ny + j) * nx + i);
+      key[c] = uint32_t(slot(i, j, k));
       ++begin[key[c] + 1];
     }
     for (size_t b = 1; b < begin.size(); ++b) begin[b] += begin[b - 1];
@@ -566,7 +572,7 @@ class Sampler {
           for (int k = std::max(0, ck - 1); k <= std::min(nz - 1, ck + 1) && !dead; ++k)
             for (int j = std::max(0, cj - 1); j <= std::min(ny - 1, cj + 1) && !dead; ++j)
               for (int i = std::max(0, ci - 1); i <= std::min(nx - 1, ci + 1) && !dead; ++i) {
-                const size_t b = (size_t(k) * ny + j) * nx + i;
+                const size_t b = slot(i, j, k);
                 for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
                   const uint32_t d = order[e];
                   if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
