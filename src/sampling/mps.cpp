@@ -526,9 +526,10 @@ class Sampler {
     enum : uint8_t { Undecided, Accepted, Rejected };
     const std::vector<Candidate>& all = rs.all;
     const size_t n = all.size();
-    // Candidates bucketed in cubes of side r over their bounding box, the cubes hashed into 2n
-    // slots so that a sparse round over a large box costs O(n) (counting sort; ascending index
-    // in each slot). Cubes that share a slot only add candidates the exact test then skips.
+    // Candidates bucketed in cubes of side r over their bounding box (counting sort; ascending
+    // index in each slot). When the box has many more cubes than candidates (late rounds, or a
+    // domain that fills little of its box) the cubes are hashed into 2n slots, so a round costs
+    // O(n); cubes that share a slot only add candidates the exact test then skips.
     Box box{all.empty() ? Vec3{} : all[0].p, all.empty() ? Vec3{} : all[0].p};
     for (const Candidate& c : all)
       for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], c.p[a]), box.hi[a] = std::max(box.hi[a], c.p[a]);
@@ -539,8 +540,11 @@ class Sampler {
       j = std::clamp(int((p.y - box.lo.y) / r_), 0, ny - 1);
       k = std::clamp(int((p.z - box.lo.z) / r_), 0, nz - 1);
     };
-    const size_t slots = std::bit_ceil(std::max<size_t>(2 * n, 1));
+    const size_t cubes = size_t(nx) * ny * nz;
+    const bool hashed = cubes > 4 * n;
+    const size_t slots = hashed ? std::bit_ceil(2 * n) : cubes;
     auto slot = [&](int i, int j, int k) {
+      if (!hashed) return (size_t(k) * ny + j) * nx + i;
       return size_t((uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u)) & (slots - 1);
     };
     std::vector<uint32_t> begin(slots + 1, 0), order(n);
