@@ -384,6 +384,22 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
   std::vector<int32_t> face_gen;
   std::vector<std::vector<int32_t>> faces;
+  // Adds the loops of one plane (normal n) as faces on generator g. A loop turning clockwise
+  // about n is a hole in another: a polygon with a hole is no VTK face, so its host is cut in
+  // two along two bridges.
+  auto add_faces_cut_around_holes = [&](std::vector<std::vector<int32_t>>& plane_loops, Vec3 n, int32_t g) {
+    std::vector<std::vector<int32_t>> outer, holes;
+    for (auto& loop : plane_loops) (dot(loop_area(pts, loop), n) > 0 ? outer : holes).push_back(std::move(loop));
+    for (auto& hole : holes) {
+      auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], n); });
+      if (host == outer.end() || !split_around_hole(pts, *host, hole, holes, n, outer)) return false;
+    }
+    for (auto& loop : outer) {
+      face_gen.push_back(g);
+      faces.push_back(std::move(loop));
+    }
+    return true;
+  };
   std::vector<std::vector<int32_t>> loops;
   std::vector<int32_t> along;
   for (size_t f = 0; f < nf; ++f) {
@@ -410,13 +426,13 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
     loops.clear();
     if (!chain_loops(segs, loops)) return fail_with(fmt::format("the face on generator {} does not close", g));
-    for (auto& loop : loops) {
-      if (dot(loop_area(pts, loop), plane[f].normal) <= 0)
-        return fail_with(fmt::format("the face on generator {} has a hole: the surface passes through it "
-                                     "(r is too large for the domain's features here)", g));
-      face_gen.push_back(g);
-      faces.push_back(std::move(loop));
-    }
+    // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
+    // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
+    // in-plane frame is this one mirrored), so the faces still match.
+    if (!add_faces_cut_around_holes(loops, plane[f].normal, g))
+      return fail_with(fmt::format("the face on generator {} has holes it cannot be cut around (features much "
+                                   "smaller than r)",
+                                   g));
   }
 
   // 4. Border faces: the triangle pieces of each facet plane merged (shared edges cancel).
@@ -429,22 +445,10 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     loops.clear();
     if (!chain_loops(kept, loops))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
-    const Vec3 normal = domain_.planes[-facet - 1].normal;
-    std::vector<std::vector<int32_t>> outer, holes;
-    for (auto& loop : loops) (dot(loop_area(pts, loop), normal) > 0 ? outer : holes).push_back(std::move(loop));
-    for (auto& hole : holes) {
-      // A facet with a hole inside the cell (a hole or pillar of the domain narrower than r):
-      // a polygon with a hole is no VTK face, so the face is cut in two along two bridges.
-      auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], normal); });
-      if (host == outer.end() || !split_around_hole(pts, *host, hole, holes, normal, outer))
-        return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
-                                     "much smaller than r)",
-                                     -facet - 1));
-    }
-    for (auto& loop : outer) {
-      face_gen.push_back(facet);
-      faces.push_back(std::move(loop));
-    }
+    if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
+      return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
+                                   "much smaller than r)",
+                                   -facet - 1));
   }
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.

@@ -134,7 +134,7 @@ TEST_P(NonConvex, GuaranteesHold) {
   o.r = r, o.seed = k.seed, o.threads = 2, o.quality = true;
   RunReport run;
   const PolyMesh m = generate_mesh(d, o, &run);
-  ASSERT_GT(m.cell_count(), 20u);
+  ASSERT_GT(m.cell_count(), 10u);  // not a trivial mesh (the coarse round.stl case has 18 cells)
 
   // Empty disk: r between free seeds and from a free seed to any; r_e between the protection
   // seeds of one reflex edge (vertex seeds sit 1e-7 r off their vertex).
@@ -244,7 +244,10 @@ INSTANTIATE_TEST_SUITE_P(
                     Case{"two_objects_mixed_case_names.stl", 1.0 / 40, 2}, Case{"round.stl", 1.0 / 20, 1},
                     Case{"round.stl", 1.0 / 40, 2}, Case{"step.off", 1.0 / 20, 1}, Case{"step.off", 1.0 / 40, 2},
                     Case{"plate_holes.STL", 1.0 / 20, 1}, Case{"plate_holes.STL", 1.0 / 40, 2},
-                    Case{"shape_ibeam.stl", 1.0 / 20, 1}, Case{"shape_ibeam.stl", 1.0 / 40, 2}));
+                    Case{"shape_ibeam.stl", 1.0 / 20, 1}, Case{"shape_ibeam.stl", 1.0 / 40, 2},
+                    // Coarse: round.stl's thin walls pierce bisector faces, which are cut around
+                    // the holes (both cells the same way, or the faces would not match).
+                    Case{"round.stl", 1.0 / 12, 2}));
 
 }  // namespace
 }  // namespace froth
