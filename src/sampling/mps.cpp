@@ -556,9 +556,16 @@ class Sampler {
       ++begin[key[c] + 1];
     }
     for (size_t b = 1; b < begin.size(); ++b) begin[b] += begin[b - 1];
+    // Positions and cubes again in slot order: a slot's candidates are read together, and
+    // `all` is in arrival order, scattered in space.
+    std::vector<Vec3> slot_p(n);
+    std::vector<int64_t> slot_base(n);
     {
       std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-      for (size_t c = 0; c < n; ++c) order[fill[key[c]]++] = uint32_t(c);
+      for (size_t c = 0; c < n; ++c) {
+        const uint32_t e = fill[key[c]]++;
+        order[e] = uint32_t(c), slot_p[e] = all[c].p, slot_base[e] = all[c].base;
+      }
     }
     std::vector<std::atomic<uint8_t>> state(n);
     for (auto& s : state) s.store(Undecided, std::memory_order_relaxed);
@@ -580,7 +587,7 @@ class Sampler {
                 for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
                   const uint32_t d = order[e];
                   if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
-                  if (all[d].base != all[c].base && norm2(all[d].p - all[c].p) >= r2_) continue;
+                  if (slot_base[e] != all[c].base && norm2(slot_p[e] - all[c].p) >= r2_) continue;
                   const uint8_t sd = state[d].load(std::memory_order_acquire);
                   if (sd == Accepted) {
                     dead = true;
