@@ -3,7 +3,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 
@@ -179,17 +181,24 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
   if (comm.rank() != 0) return 0;
   std::vector<std::string> pieces;
   for (int k = 0; k < comm.size(); ++k) pieces.push_back(fmt::format("{}/{}_{}.vtu", stem, stem, k));
-  froth::write_pvtu(pieces, opt.quality, output);
+  try {
+    froth::write_pvtu(pieces, opt.quality, output);
+  } catch (const froth::Error&) {
+    for (const std::string& p : pieces) std::filesystem::remove(output.parent_path() / p);  // no .pvtu, no pieces
+    throw;
+  }
   if (!a.report.empty()) froth::write_report_json(all.run, a.report, &all);
   all.run.stages.pop_back();
   print_summary(all.run, output.string(), write_seconds);
-  size_t owned = 0, ghosts = 0, shared = 0;
-  for (const auto& p : all.ranks) owned += p.owned_seeds, ghosts += p.ghost_seeds, shared += p.partition_faces;
+  size_t owned = 0, ghosts = 0, shared = 0, fewest = SIZE_MAX, most = 0;
+  for (const auto& p : all.ranks) {
+    owned += p.owned_seeds, ghosts += p.ghost_seeds, shared += p.partition_faces;
+    fewest = std::min(fewest, p.owned_seeds), most = std::max(most, p.owned_seeds);
+  }
   fmt::print("froth: partitioned over {} rank{} in slabs of z layers: {} to {} cells per rank, halo {} ghost seeds "
              "({:.3f} per owned seed), {} cell faces shared between ranks (each counted from both sides).\n",
-             comm.size(), comm.size() == 1 ? "" : "s", std::min_element(all.ranks.begin(), all.ranks.end(), [](auto& x, auto& y) { return x.owned_seeds < y.owned_seeds; })->owned_seeds,
-             std::max_element(all.ranks.begin(), all.ranks.end(), [](auto& x, auto& y) { return x.owned_seeds < y.owned_seeds; })->owned_seeds,
-             ghosts, owned ? double(ghosts) / double(owned) : 0.0, shared);
+             comm.size(), comm.size() == 1 ? "" : "s", fewest, most, ghosts, owned ? double(ghosts) / double(owned) : 0.0,
+             shared);
   return 0;
 }
 

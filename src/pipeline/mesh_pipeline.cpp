@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -242,13 +243,20 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   // point's cells have seeds within r of it), so every edge there is seen. Owned vertices lie
   // within r of the slab; a weld cluster moves its vertices to one point, so its diameter is at
   // most twice the largest displacement, and a cluster at an owned vertex stays in that zone
-  // while it is below the slack.
+  // while it is below the slack. Every rank decides on the largest displacement of all, so they
+  // stop together.
   const double slack = kGhostCellLayers * opt.r / std::sqrt(3.0) - 2 * opt.r;
-  if (run.welding && 2 * run.welding->max_displacement >= slack)
+  double moved = run.welding ? run.welding->max_displacement : 0;
+  for (const auto& b : comm.all_gather(Communicator::Bytes(reinterpret_cast<const uint8_t*>(&moved),
+                                                           reinterpret_cast<const uint8_t*>(&moved + 1)))) {
+    double m;
+    std::memcpy(&m, b.data(), sizeof m);
+    moved = std::max(moved, m);
+  }
+  if (2 * moved >= slack)
     fail(ErrorKind::Usage, fmt::format("--partition: welding moved a vertex by {:.3g} = {:.3g} r, more than the ghost "
                                        "cells around a slab can vouch for ({:.3g} r): use a smaller --weld",
-                                       run.welding->max_displacement, run.welding->max_displacement / opt.r,
-                                       slack / 2 / opt.r));
+                                       moved, moved / opt.r, slack / 2 / opt.r));
   PolyMesh mesh = extract_cells(ring, own_begin, own_end, part.partition_faces);
   ring = PolyMesh();
   WeldedCells welded;

@@ -116,6 +116,15 @@ TEST(Partition, NonConvexModelMatchesSerial) {
   expect_partition_matches_serial(d, d.bounds.diagonal() / 30, 1e-4 * d.bounds.diagonal() / 30, 3);
 }
 
+TEST(Partition, WeldingBeyondTheGhostRingStopsEveryRank) {
+  MeshOptions opt;
+  opt.r = 0.06;
+  opt.weld = 0.8 * opt.r;  // merges whole clusters of cells' vertices
+  opt.threads = 1;
+  const std::vector<Piece> pieces = partitioned(load_domain("box:0,0,0,1,1,1"), opt, 2);
+  for (const Piece& p : pieces) EXPECT_NE(p.error.find("use a smaller --weld"), std::string::npos) << p.error;
+}
+
 TEST(Partition, TooManyRanksForTheGridIsAUsageError) {
   MeshOptions opt;
   opt.r = 0.2;
