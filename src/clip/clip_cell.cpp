@@ -35,12 +35,7 @@ Names key_of(std::initializer_list<int32_t> gens) {
   return k;
 }
 
-struct NamesLess {
-  bool operator()(const Names& a, const Names& b) const {
-    if (a.n != b.n) return a.n < b.n;
-    return std::lexicographical_compare(a.gen, a.gen + a.n, b.gen, b.gen + b.n);
-  }
-};
+bool same_names(const Names& a, const Names& b) { return a.n == b.n && std::equal(a.gen, a.gen + a.n, b.gen); }
 
 // The unordered pair {a, b} as one key.
 uint64_t generator_pair(int32_t a, int32_t b) {
@@ -223,10 +218,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   // The planes of V's faces, computed exactly as the cell builder cut them.
   static const Vec3 cube_normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
   std::vector<Plane> plane(nf);
-  std::map<int32_t, int32_t> face_of_gen;
   for (size_t f = 0; f < nf; ++f) {
     const int32_t g = cell.face_generator(f);
-    face_of_gen[g] = int32_t(f);
     if (ConvexCell::is_cube_generator(g)) {
       plane[f] = {cube_normals[g - ConvexCell::kCubeGenerator], half};
     } else {
@@ -240,19 +233,35 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   };
 
   // Every point met, by name.
-  std::map<Names, int32_t, NamesLess> point_of;
+  // Every point met, by name: an open-addressing table of indices into pts/keys, grown at
+  // half full.
   std::vector<Vec3> pts;
   std::vector<Names> keys;
+  std::vector<int32_t> table(256, -1);
+  auto slot_of = [&](const Names& k) {
+    uint64_t h = k.n;
+    for (int i = 0; i < k.n; ++i) h = (h ^ uint32_t(k.gen[i])) * 0x9E3779B97F4A7C15ull;
+    size_t s = size_t(h >> 32) & (table.size() - 1);
+    while (table[s] >= 0 && !same_names(keys[table[s]], k)) s = (s + 1) & (table.size() - 1);
+    return s;
+  };
   auto intern = [&](const Names& k, Vec3 p) {
-    auto [it, added] = point_of.try_emplace(k, int32_t(pts.size()));
-    if (added) pts.push_back(p), keys.push_back(k);
-    return it->second;
+    size_t s = slot_of(k);
+    if (table[s] >= 0) return table[s];
+    pts.push_back(p), keys.push_back(k);
+    if (2 * pts.size() > table.size()) {
+      table.assign(2 * table.size(), -1);
+      for (size_t q = 0; q < keys.size(); ++q) table[slot_of(keys[q])] = int32_t(q);
+    } else {
+      table[s] = int32_t(pts.size() - 1);
+    }
+    return int32_t(pts.size() - 1);
   };
 
   // 1. Each nearby triangle clipped by V (Sutherland-Hodgman), its points named as they arise.
   std::vector<std::vector<Edge>> on_face(nf);                    // cross-section edges per V face
   std::vector<std::pair<uint64_t, int32_t>> crossings;  // (V edge's generator pair, point), sorted after step 1
-  std::map<int32_t, std::vector<Edge>> border;                   // piece edges per facet plane
+  std::vector<std::pair<int32_t, Edge>> border;                  // piece edges, by facet plane
   std::vector<PolyVertex> poly, next;
   for (int32_t t : tris) {
     const auto& tri = S.triangles[t];
@@ -302,8 +311,12 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (size_t k = 0; k < poly.size(); ++k) idx[k] = intern(poly[k].key, poly[k].p);
     for (size_t k = 0; k < poly.size(); ++k) {
       const int32_t u = idx[k], w = idx[(k + 1) % poly.size()], label = poly[k].out_label;
-      border[facet].push_back({u, w});
-      if (is_cell_generator(label)) on_face[face_of_gen.at(label)].push_back({w, u});
+      border.push_back({facet, {u, w}});
+      if (is_cell_generator(label)) {
+        size_t f = 0;
+        while (cell.face_generator(f) != label) ++f;  // V has a face on every label it cut with
+        on_face[f].push_back({w, u});
+      }
       // A point on two of V's faces is where V's edge between them crosses the triangle.
       const Names& kk = poly[k].key;
       int32_t on[3], m = 0;
@@ -436,11 +449,17 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   }
 
   // 4. Border faces: the triangle pieces of each facet plane merged (shared edges cancel).
-  for (auto& [facet, edges] : border) {
-    std::sort(edges.begin(), edges.end());
+  std::sort(border.begin(), border.end(), [](const auto& a, const auto& b) {
+    return a.first != b.first ? a.first < b.first : a.second < b.second;
+  });
+  std::vector<Edge> plane_edges;
+  for (size_t at = 0; at < border.size();) {
+    const int32_t facet = border[at].first;
+    plane_edges.clear();
+    for (; at < border.size() && border[at].first == facet; ++at) plane_edges.push_back(border[at].second);
     std::vector<Edge> kept;
-    for (const Edge& e : edges)
-      if (!std::binary_search(edges.begin(), edges.end(), Edge{e.to, e.from})) kept.push_back(e);
+    for (const Edge& e : plane_edges)
+      if (!std::binary_search(plane_edges.begin(), plane_edges.end(), Edge{e.to, e.from})) kept.push_back(e);
     if (kept.empty()) continue;
     loops.clear();
     if (!chain_loops(kept, loops))
