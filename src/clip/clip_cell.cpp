@@ -227,9 +227,9 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       plane[f] = {(1 / d) * (seeds[g] - x), d / 2};
     }
   }
-  auto fail_with = [&](std::string text) {
+  auto fail_with = [&](std::string text, Result result = Result::Clipped) {
     error = fmt::format("cell {} at ({}, {}, {}): {}", seed, x.x, x.y, x.z, text);
-    return Result::Clipped;
+    return result;
   };
 
   // Every point met, by name.
@@ -445,7 +445,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (!add_faces_cut_around_holes(loops, plane[f].normal, g))
       return fail_with(fmt::format("the face on generator {} has holes it cannot be cut around (features much "
                                    "smaller than r)",
-                                   g));
+                                   g),
+                       Result::TooCoarse);
   }
 
   // 4. Border faces: the triangle pieces of each facet plane merged (shared edges cancel).
@@ -467,7 +468,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
       return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
                                    "much smaller than r)",
-                                   -facet - 1));
+                                   -facet - 1),
+                       Result::TooCoarse);
   }
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.
@@ -489,7 +491,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       if (root < 0) root = parts.find(p);
       if (parts.find(p) != root)
         return fail_with("the cell's part of the domain is in several pieces: r is too large for the domain's "
-                         "features here (a thin wall or a narrow gap)");
+                         "features here (a thin wall or a narrow gap)",
+                         Result::TooCoarse);
       if (used_map[p] < 0) {
         used_map[p] = int32_t(out.points_.size());
         out.points_.push_back(pts[p]);

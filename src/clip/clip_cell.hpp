@@ -52,7 +52,9 @@ class CellClipper {
  public:
   CellClipper(const Domain& domain, const SurfaceGenerators& gens) : domain_(domain), gens_(gens) {}
 
-  enum class Result { Inside, Clipped };
+  // TooCoarse: the domain has features smaller than r here (a thin wall, a narrow gap); the
+  // error text says which.
+  enum class Result { Inside, Clipped, TooCoarse };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
   // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
   // inside the domain: the seed itself, or a point just off the surface for a protection seed.

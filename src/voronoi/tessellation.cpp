@@ -118,9 +118,19 @@ class CellBuilder {
     if (!domain.convex) generators_.emplace(domain);
   }
 
+  // What went wrong with a cell: r too large for the domain's features here is the user's to
+  // change (Usage); anything else is froth's (Internal).
+  struct CellError {
+    CellError() = default;
+    CellError(std::string t, ErrorKind k = ErrorKind::Internal) : text(std::move(t)), kind(k) {}
+    std::string text;
+    ErrorKind kind = ErrorKind::Internal;
+    bool failed() const { return !text.empty(); }
+  };
+
   // Builds cell i into `cell`, or, when it meets a non-convex domain's surface, into `clipped`
-  // (then `is_clipped` is set); returns an empty string or what went wrong.
-  std::string build(int32_t i, ConvexCell& cell, ClippedCell& clipped, bool& is_clipped, std::vector<Neighbour>& nb,
+  // (then `is_clipped` is set); returns no error or what went wrong.
+  CellError build(int32_t i, ConvexCell& cell, ClippedCell& clipped, bool& is_clipped, std::vector<Neighbour>& nb,
                     std::vector<ConvexCell::Names>& names) const {
     const Vec3 x = sample_.seeds[i];
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
@@ -162,7 +172,9 @@ class CellBuilder {
       // A protection seed lies on the surface: inside tests start from a point just off it.
       const Sample::Protected* p = sample_.protection_of(i);
       const Vec3 anchor = p ? 1e-6 * r_ * p->inward : Vec3{};
-      if (clipper.clip(i, x, anchor, cell, half, sample_.seeds, clipped, error) == CellClipper::Result::Clipped) {
+      const CellClipper::Result result = clipper.clip(i, x, anchor, cell, half, sample_.seeds, clipped, error);
+      if (result == CellClipper::Result::TooCoarse) return {error, ErrorKind::Usage};
+      if (result == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
         for (size_t f = 0; f < clipped.face_count(); ++f)
           if (clipped.face_size(f) > 255) return fmt::format("cell {} has a face of {} vertices", i, clipped.face_size(f));
@@ -254,7 +266,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   CellBuilder builder(domain, sample, r);
   std::mutex error_mutex;
   size_t first_bad = n;
-  std::string first_error;
+  CellBuilder::CellError first_error;
 
 #pragma omp parallel
   {
@@ -269,8 +281,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
       for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
         const int32_t i = first_seed + int32_t(k);
-        std::string err = builder.build(i, cell, clipped, is_clipped, nb, names);
-        if (!err.empty()) {
+        CellBuilder::CellError err = builder.build(i, cell, clipped, is_clipped, nb, names);
+        if (err.failed()) {
           std::lock_guard lock(error_mutex);
           if (k < first_bad) first_bad = k, first_error = err;
           break;
@@ -281,7 +293,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       }
     }
   }
-  if (!first_error.empty()) fail(ErrorKind::Internal, first_error);
+  if (first_error.failed()) fail(first_error.kind, first_error.text);
   if (times) times->cells = seconds_since(t0), times->cells_peak_rss = peak_rss_bytes();
   t0 = std::chrono::steady_clock::now();
 
