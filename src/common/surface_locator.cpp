@@ -134,7 +134,14 @@ std::optional<std::pair<int32_t, int32_t>> SurfaceLocator::first_self_intersecti
 bool SurfaceLocator::side_from(Vec3 a, bool a_inside, Vec3 b, std::span<const int32_t> triangles,
                                bool& b_inside) const {
   bool in = a_inside;
+  // A triangle whose bounding box misses the segment's neither crosses it nor holds an end.
+  const Vec3 lo{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
+  const Vec3 hi{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
   for (int32_t t : triangles) {
+    const CGAL::Bbox_3& tb = impl_->boxes[t];
+    if (tb.xmax() < lo.x || tb.xmin() > hi.x || tb.ymax() < lo.y || tb.ymin() > hi.y || tb.zmax() < lo.z ||
+        tb.zmin() > hi.z)
+      continue;
     int c = segment_crossing(a, b, t);
     if (c < 0) return false;
     if (c > 0) in = !in;
