@@ -86,6 +86,23 @@ bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
     return false;
   const auto& P = impl_->points;
   auto [a, b, c] = triangles_[t];
+  // The box wholly on one side of the triangle's plane, by a margin far above the rounding of
+  // these products (about 1e-15 of their scale), misses it; otherwise ask the exact predicate.
+  {
+    const Vec3 p{P[a].x(), P[a].y(), P[a].z()};
+    const Vec3 u = Vec3{P[b].x(), P[b].y(), P[b].z()} - p, v = Vec3{P[c].x(), P[c].y(), P[c].z()} - p;
+    const Vec3 n = cross(u, v);
+    const Vec3 l = lo - p, h = hi - p;
+    double dmin = 0, dmax = 0, scale = 0;
+    for (int k = 0; k < 3; ++k) {
+      dmin += n[k] * (n[k] > 0 ? l[k] : h[k]);
+      dmax += n[k] * (n[k] > 0 ? h[k] : l[k]);
+      scale = std::max({scale, std::abs(u[k]), std::abs(v[k])});
+    }
+    const double reach = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z), std::abs(h.x), std::abs(h.y), std::abs(h.z)});
+    const double margin = 1e-10 * scale * scale * reach;
+    if (dmin > margin || dmax < -margin) return false;
+  }
   return CGAL::do_intersect(Kernel::Triangle_3(P[a], P[b], P[c]),
                             Kernel::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)));
 }
