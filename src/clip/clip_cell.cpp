@@ -232,7 +232,6 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     return result;
   };
 
-  // Every point met, by name.
   // Every point met, by name: an open-addressing table of indices into pts/keys, grown at
   // half full.
   std::vector<Vec3> pts;
