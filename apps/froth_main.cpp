@@ -108,16 +108,22 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
       run.threads, run.peak_rss_bytes / 1048576.0, output);
 }
 
-int run_mesh(const MeshArgs& a) {
-  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+// The options `froth mesh` runs with; progress on stderr if `tell` and it is a terminal.
+froth::MeshOptions mesh_options(const MeshArgs& a, bool tell) {
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
   opt.weld = weld_tolerance(a.weld, a.r);
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
-  if (isatty(STDERR_FILENO))
+  if (tell && isatty(STDERR_FILENO))
     opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
+  return opt;
+}
+
+int run_mesh(const MeshArgs& a) {
+  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+  const froth::MeshOptions opt = mesh_options(a, true);
   froth::RunReport run;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
   const std::string output = a.output.empty() ? default_output(a.input) : a.output;
@@ -141,14 +147,7 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
   if (output.extension() != ".pvtu")
     froth::fail(froth::ErrorKind::Usage, fmt::format("--partition writes a .pvtu file, not {}", output.string()));
   froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
-  froth::MeshOptions opt;
-  opt.r = a.r;
-  opt.seed = a.seed;
-  opt.weld = weld_tolerance(a.weld, a.r);
-  opt.threads = a.threads;
-  opt.quality = !a.no_quality;
-  if (comm.rank() == 0 && isatty(STDERR_FILENO))
-    opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
+  const froth::MeshOptions opt = mesh_options(a, comm.rank() == 0);
   froth::RunReport run;
   froth::PartitionReport part;
   froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
@@ -170,7 +169,7 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
     code = 4;
   }
   // Every piece is written (or every rank removes its own) before the .pvtu names them.
-  for (const auto& c : comm.all_gather({uint8_t(code)})) code = std::max<int>(code, c.at(0));
+  code = int(comm.max(code));
   if (code != 0) {
     std::filesystem::remove(output.parent_path() / relative);
     return code;

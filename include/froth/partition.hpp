@@ -26,6 +26,12 @@ class Communicator {
                                         Bytes& from_upper) = 0;
   // Every rank's bytes, in rank order, on every rank.
   virtual std::vector<Bytes> all_gather(const Bytes& mine) = 0;
+
+  // Plain values over all ranks, by all_gather (every rank calls them together).
+  std::vector<uint64_t> gather(uint64_t mine);  // every rank's, in rank order
+  uint64_t sum(uint64_t mine);
+  double max(double mine);
+  bool any(bool mine) { return sum(mine) > 0; }
 };
 
 // A rank's slab and its halos, in layers of base cubes (z index of the sampling grid).

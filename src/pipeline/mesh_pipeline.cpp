@@ -4,7 +4,6 @@
 #include <omp.h>
 
 #include <chrono>
-#include <cstring>
 #include <fstream>
 #include <string>
 
@@ -219,8 +218,8 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   run.sampling = w.sample.stats;
   // Counts over all ranks (protection seeds are computed whole on every rank).
   run.sampling.seeds = w.total_seeds;
-  run.sampling.darts = sum_over_ranks(comm, run.sampling.darts);
-  run.sampling.uncovered_cubes = sum_over_ranks(comm, run.sampling.uncovered_cubes);
+  run.sampling.darts = comm.sum(run.sampling.darts);
+  run.sampling.uncovered_cubes = comm.sum(run.sampling.uncovered_cubes);
   malloc_trim(0);
   check_sample(run.sampling.seeds, run.sampling.uncovered_cubes, opt.r);
   part.first_seed = w.first_global + w.owned.begin;
@@ -246,13 +245,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   // while it is below the slack. Every rank decides on the largest displacement of all, so they
   // stop together.
   const double slack = kGhostCellLayers * opt.r / std::sqrt(3.0) - 2 * opt.r;
-  double moved = run.welding ? run.welding->max_displacement : 0;
-  for (const auto& b : comm.all_gather(Communicator::Bytes(reinterpret_cast<const uint8_t*>(&moved),
-                                                           reinterpret_cast<const uint8_t*>(&moved + 1)))) {
-    double m;
-    std::memcpy(&m, b.data(), sizeof m);
-    moved = std::max(moved, m);
-  }
+  const double moved = comm.max(run.welding ? run.welding->max_displacement : 0);
   if (2 * moved >= slack)
     fail(ErrorKind::Usage, fmt::format("--partition: welding moved a vertex by {:.3g} = {:.3g} r, more than the ghost "
                                        "cells around a slab can vouch for ({:.3g} r): use a smaller --weld",

@@ -30,16 +30,35 @@ Slab slab_of(int rank, int ranks, int nz) {
   return s;
 }
 
-uint64_t sum_over_ranks(Communicator& comm, uint64_t value) {
-  Communicator::Bytes mine(sizeof value);
-  std::memcpy(mine.data(), &value, sizeof value);
-  uint64_t sum = 0;
-  for (const auto& b : comm.all_gather(mine)) {
-    uint64_t v;
+namespace {
+
+// Every rank's value of a plain type, in rank order.
+template <class T>
+std::vector<T> gather_values(Communicator& comm, T mine) {
+  Communicator::Bytes bytes(sizeof mine);
+  std::memcpy(bytes.data(), &mine, sizeof mine);
+  std::vector<T> out;
+  for (const auto& b : comm.all_gather(bytes)) {
+    T v;
     std::memcpy(&v, b.data(), sizeof v);
-    sum += v;
+    out.push_back(v);
   }
-  return sum;
+  return out;
+}
+
+}  // namespace
+
+std::vector<uint64_t> Communicator::gather(uint64_t mine) { return gather_values(*this, mine); }
+
+uint64_t Communicator::sum(uint64_t mine) {
+  uint64_t total = 0;
+  for (uint64_t v : gather(mine)) total += v;
+  return total;
+}
+
+double Communicator::max(double mine) {
+  for (double v : gather_values(*this, mine)) mine = std::max(mine, v);
+  return mine;
 }
 
 namespace {
@@ -80,15 +99,10 @@ CellWindow exchange_cell_halo(const Sample& sampled, const Slab& slab, Communica
     });
   CellWindow w;
   int64_t first_own = 0;
-  {
-    const uint64_t n = own.size();
-    const auto counts = comm.all_gather(to_bytes(&n, 1));
-    for (int k = 0; k < comm.size(); ++k) {
-      uint64_t v;
-      std::memcpy(&v, counts[k].data(), sizeof v);
-      if (k < comm.rank()) first_own += int64_t(v);
-      w.total_seeds += v;
-    }
+  const std::vector<uint64_t> counts = comm.gather(own.size());
+  for (int k = 0; k < comm.size(); ++k) {
+    if (k < comm.rank()) first_own += int64_t(counts[k]);
+    w.total_seeds += counts[k];
   }
   // Slabs are at least kCellHaloLayers thick (slab_of), so the halo comes from the neighbours.
   const auto lower_end = std::find_if(own.begin(), own.end(), [&](const WireSeed& s) {

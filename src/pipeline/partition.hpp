@@ -27,7 +27,4 @@ CellWindow exchange_cell_halo(const Sample& sampled, const Slab& slab, Communica
 // neighbour's kind), counted in `other_piece_faces`.
 PolyMesh extract_cells(const PolyMesh& mesh, size_t begin, size_t end, size_t& other_piece_faces);
 
-// The sum of every rank's value, on every rank.
-uint64_t sum_over_ranks(Communicator& comm, uint64_t value);
-
 }  // namespace froth

@@ -140,12 +140,7 @@ class Sampler {
   int32_t cube_entry(int64_t b) const { return s_.cube_seed[b - s_.cube_offset]; }
 
   // Is `mine` true on any rank? (Every rank calls it at the same point.)
-  bool anywhere(bool mine) const {
-    if (!partition_) return mine;
-    for (const auto& b : partition_->comm->all_gather({uint8_t(mine)}))
-      if (b.at(0)) return true;
-    return false;
-  }
+  bool anywhere(bool mine) const { return partition_ ? partition_->comm->any(mine) : mine; }
 
   Vec3 base_origin(int64_t b) const {
     const auto& g = s_.grid;
