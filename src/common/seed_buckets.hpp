@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "froth/error.hpp"
@@ -55,9 +56,15 @@ class SeedBuckets {
   }
 
   // Calls f(id) for every seed that may lie within `reach` of the box [lo, hi] (a superset of
-  // those that do: the float prefilter errs on the side of keeping).
+  // those that do: the float prefilter errs on the side of keeping). If f returns bool, true
+  // stops the walk, and for_each_near says whether it was stopped.
   template <class F>
-  void for_each_near(Vec3 lo, Vec3 hi, double reach, F&& f) const {
+  bool for_each_near(Vec3 lo, Vec3 hi, double reach, F&& f) const {
+    constexpr bool stoppable = std::is_same_v<decltype(f(int32_t(0))), bool>;
+    auto visit = [&](int32_t id) {
+      if constexpr (stoppable) return f(id);
+      else return f(id), false;
+    };
     int a[3], b[3];
     for (int d = 0; d < 3; ++d) {
       a[d] = axis(lo[d] - reach - origin_[d], d);
@@ -84,7 +91,8 @@ class SeedBuckets {
           if (bk.count > kCapacity) {
             auto it = std::lower_bound(overflow_.begin(), overflow_.end(), row + i,
                                        [](const Overflow& o, size_t a) { return o.bucket < a; });
-            for (; it != overflow_.end() && it->bucket == row + i; ++it) f(it->id);
+            for (; it != overflow_.end() && it->bucket == row + i; ++it)
+              if (visit(it->id)) return true;
           }
           const Vec3 c = corner(i, j, k);
           const float lx = float(lo.x - c.x), ly = float(lo.y - c.y), lz = float(lo.z - c.z);
@@ -93,11 +101,12 @@ class SeedBuckets {
             float dx = std::max({lx - bk.x[s], bk.x[s] - hx, 0.f});
             float dy = std::max({ly - bk.y[s], bk.y[s] - hy, 0.f});
             float dz = std::max({lz - bk.z[s], bk.z[s] - hz, 0.f});
-            if (dx * dx + dy * dy + dz * dz <= reach2) f(bk.id[s]);
+            if (dx * dx + dy * dy + dz * dz <= reach2 && visit(bk.id[s])) return true;
           }
         }
       }
     }
+    return false;
   }
 
 

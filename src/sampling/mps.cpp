@@ -164,6 +164,12 @@ class Sampler {
     });
   }
 
+  // Is a seed closer than r to p? Most darts after the first level are, and stop at the first
+  // one found.
+  bool seed_within_r(Vec3 p) const {
+    return buckets_.for_each_near(p, p, r_, [&](int32_t q) { return norm2(s_.seeds[q] - p) < r2_; });
+  }
+
   // Per seed, the squared distance along each axis from the seed to the farther face of each
   // half of the parent: far2[s][axis][half]. A child is in seed s's ball iff the sum over axes
   // for its halves is within r^2 (its farthest corner is).
@@ -392,8 +398,6 @@ class Sampler {
     size_t darts = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : darts)
     for (size_t ch = 0; ch < chunks; ++ch) {
-      std::vector<Vec3> near;
-      int64_t near_base = -1;
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
@@ -403,18 +407,12 @@ class Sampler {
         int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]));
         if (n == 0) continue;
         darts += n;
-        if (c.base != near_base) {  // sub-cubes of one base cube are adjacent in the list
-          near_base = c.base;
-          seeds_near_box(base_origin(c.base), s_.grid.side, near);
-        }
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
         for (int k = 0; k < n; ++k) {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
           if (!c.inside() && !inside_domain(p, c.base)) continue;
-          bool hit = false;
-          for (Vec3 q : near) hit |= norm2(q - p) < r2_;
-          if (hit) continue;
+          if (seed_within_r(p)) continue;
           found[ch].push_back({w[3], c.base, p});
         }
       }
