@@ -356,7 +356,7 @@ int froth_main(int argc, char** argv, const World& world) {
   app.set_version_flag("--version", FROTH_VERSION);
   app.require_subcommand(1);
   MeshArgs a;
-  CLI::App* mesh = app.add_subcommand("mesh", "mesh a convex domain with clipped Voronoi cells");
+  CLI::App* mesh = app.add_subcommand("mesh", "mesh a box or the solid a closed surface encloses with clipped Voronoi cells");
   mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
   mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
       ->required();

@@ -61,20 +61,23 @@ struct Candidate {
 };
 
 // Expected darts per active cube per round, and rounds per refinement level. They tune speed
-// only: the law of the sample is the same for any choice.
+// only: the law of the sample is the same for any choice. The first level throws its darts in
+// several thin rounds: its candidates conflict mostly with each other, and the cost of deciding
+// them in arrival order grows with the square of their density, while a later round's darts
+// mostly meet a seed and stop there (9% less sampling time at 1e6 seeds than one round of 0.5).
+constexpr double kDartsPerCubePerRoundLevel0 = 0.125;
+constexpr int kRoundsLevel0 = 6;
 constexpr double kDartsPerCubePerRound = 0.5;
-constexpr int kRoundsLevel0 = 1;
 constexpr int kRoundsPerLevel = 1;
 constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
 
-// Inverse CDF of the Poisson law with mean kDartsPerCubePerRound.
-int poisson(double u) {
-  static const double p0 = std::exp(-kDartsPerCubePerRound);
+// Inverse CDF of the Poisson law with mean `mean`, whose probability of 0 is p0 = exp(-mean).
+int poisson(double u, double mean, double p0) {
   double p = p0, cdf = p;
   int k = 0;
   while (u > cdf && k < 64) {
     ++k;
-    p *= kDartsPerCubePerRound / k;
+    p *= mean / k;
     cdf += p;
   }
   return k;
@@ -393,6 +396,7 @@ class Sampler {
 
   void throw_round(std::vector<ActiveCube>& active, int level, int round) {
     const double h = std::ldexp(s_.grid.side, -level);
+    const double mean = level == 0 ? kDartsPerCubePerRoundLevel0 : kDartsPerCubePerRound, p0 = std::exp(-mean);
     const size_t chunks = (active.size() + kChunk - 1) / kChunk;
     std::vector<std::vector<Candidate>> found(chunks);
     size_t darts = 0;
@@ -404,7 +408,7 @@ class Sampler {
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
         const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
-        int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]));
+        int n = poisson(CounterRng::unit(rng_.words(uint64_t(c.base), c1, tag, 0)[0]), mean, p0);
         if (n == 0) continue;
         darts += n;
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
