@@ -190,31 +190,51 @@ class Sampler {
     }
   };
 
-  // Is the cube [lo, lo + h]^3, child (dx, dy, dz) of the parent described by `ff`, inside the
-  // union of the r-balls around `near`? Exact for one ball (the farthest corner is within r)
-  // and for two balls A, B: the cube's part on A's side of their bisector is a convex polytope,
-  // inside ball A iff its vertices are (the cube corners on A's side and the cube edges'
-  // crossings of the bisector), and likewise for B. Which two balls: the nearest seeds of the
-  // cube's corners, when there are only two.
-  bool covered(Vec3 lo, double h, const std::vector<Vec3>& near, const FarthestFaces& ff, int dx, int dy,
+  // The nearest near seed of each point of the parent's 3x3x3 lattice (its children's corners),
+  // found when a child first needs it: neighbouring children share corners.
+  struct CornerCache {
+    Vec3 lo;
+    double h;
+    uint32_t known = 0;  // bit p: point p's entry is filled in
+    int nearest[27];
+    double dist2[27];
+    void reset(Vec3 parent_lo, double child_side) { lo = parent_lo, h = child_side, known = 0; }
+    Vec3 point(int p) const { return lo + Vec3{(p % 3) * h, (p / 3 % 3) * h, (p / 9) * h}; }
+  };
+  int nearest_to_corner(int p, const std::vector<Vec3>& near, CornerCache& cc) const {
+    if (!(cc.known >> p & 1)) {
+      const Vec3 x = cc.point(p);
+      double best = INFINITY;
+      int arg = -1;
+      for (size_t i = 0; i < near.size(); ++i) {
+        const double d = norm2(near[i] - x);
+        if (d < best) best = d, arg = int(i);
+      }
+      cc.nearest[p] = arg, cc.dist2[p] = best, cc.known |= 1u << p;
+    }
+    return cc.nearest[p];
+  }
+
+  // Is child (dx, dy, dz) of the parent described by `ff` and `cc` inside the union of the
+  // r-balls around `near`? Exact for one ball (the farthest corner is within r) and for two balls
+  // A, B: the cube's part on A's side of their bisector is a convex polytope, inside ball A iff
+  // its vertices are (the cube corners on A's side and the cube edges' crossings of the
+  // bisector), and likewise for B. Which two balls: the nearest seeds of the cube's corners, when
+  // there are only two.
+  bool covered(const std::vector<Vec3>& near, const FarthestFaces& ff, CornerCache& cc, int dx, int dy,
                int dz) const {
     for (const auto& f : ff.far2)
       if (f[dx] + f[2 + dy] + f[4 + dz] <= r2_) return true;
     Vec3 corner[8];
-    int nearest[8];
     int a = -1, b = -1;
     bool all_within = true;
     for (int k = 0; k < 8; ++k) {
-      corner[k] = lo + Vec3{(k & 1) * h, ((k >> 1) & 1) * h, (k >> 2) * h};
-      double best = INFINITY;
-      nearest[k] = -1;
-      for (size_t i = 0; i < near.size(); ++i) {
-        double d = norm2(near[i] - corner[k]);
-        if (d < best) best = d, nearest[k] = int(i);
-      }
-      if (best > r2_) return false;  // a corner is uncovered
-      if (a < 0 || nearest[k] == a) a = nearest[k];
-      else if (b < 0 || nearest[k] == b) b = nearest[k];
+      const int p = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
+      const int n = nearest_to_corner(p, near, cc);
+      if (cc.dist2[p] > r2_) return false;  // a corner is uncovered
+      corner[k] = cc.point(p);
+      if (a < 0 || n == a) a = n;
+      else if (b < 0 || n == b) b = n;
       else all_within = false;  // three or more nearest seeds: give up (keep the cube)
     }
     if (!all_within || b < 0) return false;
@@ -628,6 +648,7 @@ class Sampler {
     for (size_t ch = 0; ch < chunks; ++ch) {
       std::vector<Vec3> near_base, near;
       FarthestFaces ff;
+      CornerCache corners;
       int64_t cached_base = -1;
       size_t end = std::min(active.size(), (ch + 1) * kChunk);
       for (size_t a = ch * kChunk; a < end; ++a) {
@@ -645,10 +666,11 @@ class Sampler {
         for (Vec3 q : near_base)
           if (norm2(q - center) < reach * reach) near.push_back(q);
         ff.build(lo, h, near);
+        corners.reset(lo, h);
         for (uint32_t child = 0; child < 8; ++child) {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
-          if (covered(clo, h, near, ff, int(dx), int(dy), int(dz))) continue;
+          if (covered(near, ff, corners, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
             int cls = classify_sub_box(clo, h, c.base);
