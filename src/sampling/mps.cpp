@@ -216,43 +216,66 @@ class Sampler {
   }
 
   // Is child (dx, dy, dz) of the parent described by `ff` and `cc` inside the union of the
-  // r-balls around `near`? Exact for one ball (the farthest corner is within r) and for two balls
-  // A, B: the cube's part on A's side of their bisector is a convex polytope, inside ball A iff
-  // its vertices are (the cube corners on A's side and the cube edges' crossings of the
-  // bisector), and likewise for B. Which two balls: the nearest seeds of the cube's corners, when
-  // there are only two.
+  // r-balls around `near`? Exact for one ball (the farthest corner is within r). Otherwise, when
+  // the corners' nearest seeds are two or three seeds S, exact for the balls of S: the cube is
+  // cut into convex pieces by S's Voronoi diagram, and a piece is inside its seed's ball iff its
+  // vertices are. They are the cube's corners (each within r of its nearest seed, checked
+  // first), the crossings of the cube's edges with a bisector of two seeds of S that are not
+  // nearer the third, and, for three seeds, the crossings of the cube's faces with the line
+  // equidistant from all three. Nearly half the cubes a two-ball test keeps are covered by three.
   bool covered(const std::vector<Vec3>& near, const FarthestFaces& ff, CornerCache& cc, int dx, int dy,
                int dz) const {
     for (const auto& f : ff.far2)
       if (f[dx] + f[2 + dy] + f[4 + dz] <= r2_) return true;
     Vec3 corner[8];
-    int a = -1, b = -1;
-    bool all_within = true;
+    int site[3], sites = 0;
     for (int k = 0; k < 8; ++k) {
       const int p = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
       const int n = nearest_to_corner(p, near, cc);
       if (cc.dist2[p] > r2_) return false;  // a corner is uncovered
       corner[k] = cc.point(p);
-      if (a < 0 || n == a) a = n;
-      else if (b < 0 || n == b) b = n;
-      else all_within = false;  // three or more nearest seeds: give up (keep the cube)
+      if (std::find(site, site + sites, n) != site + sites) continue;
+      if (sites == 3) return false;  // four or more nearest seeds: give up (keep the cube)
+      site[sites++] = n;
     }
-    if (!all_within || b < 0) return false;
-    // Two balls: each corner is within r of its nearest seed (checked); each edge whose ends
-    // have different nearest seeds crosses the bisector at a point that must be within r.
-    const Vec3 qa = near[a], qb = near[b];
-    const Vec3 n = qb - qa;
-    const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
+    if (sites < 2) return false;
+    const double limit = r2_ * (1 - 1e-12);
     static constexpr int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                          {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
-    for (const auto& e : edges) {
-      const double su = dot(n, corner[e[0]]) - mid, sv = dot(n, corner[e[1]]) - mid;
-      if ((su < 0) == (sv < 0)) continue;
-      const Vec3 x = corner[e[0]] + (su / (su - sv)) * (corner[e[1]] - corner[e[0]]);
-      if (norm2(x - qa) >= r2_ * (1 - 1e-12)) return false;
+    for (int i = 0; i < sites; ++i)
+      for (int j = i + 1; j < sites; ++j) {
+        const Vec3 qa = near[site[i]], qb = near[site[j]];
+        const Vec3 n = qb - qa;
+        const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
+        for (const auto& e : edges) {
+          const double su = dot(n, corner[e[0]]) - mid, sv = dot(n, corner[e[1]]) - mid;
+          if ((su < 0) == (sv < 0)) continue;
+          const Vec3 x = corner[e[0]] + (su / (su - sv)) * (corner[e[1]] - corner[e[0]]);
+          const double d2 = norm2(x - qa);
+          if (sites == 3 && norm2(x - near[site[3 - i - j]]) < d2) continue;  // inside the third's piece
+          if (d2 >= limit) return false;
+        }
+      }
+    if (sites == 3) {
+      // The line equidistant from the three: through their circumcentre, normal to their plane.
+      const Vec3 a = near[site[0]], b = near[site[1]] - a, c = near[site[2]] - a;
+      const Vec3 axis = cross(b, c);
+      const double w = norm2(axis);
+      if (!(w > 1e-24 * r2_ * r2_)) return false;  // (nearly) collinear: give up
+      const Vec3 centre = a + (1 / (2 * w)) * cross(norm2(b) * c - norm2(c) * b, axis);
+      const Vec3 lo = corner[0], hi = corner[7];
+      for (int ax = 0; ax < 3; ++ax) {
+        if (axis[ax] == 0) continue;
+        for (double plane : {lo[ax], hi[ax]}) {
+          const Vec3 x = centre + ((plane - centre[ax]) / axis[ax]) * axis;
+          const int u = (ax + 1) % 3, v = (ax + 2) % 3;
+          if (x[u] < lo[u] || x[u] > hi[u] || x[v] < lo[v] || x[v] > hi[v]) continue;
+          if (norm2(x - a) >= limit) return false;
+        }
+      }
     }
-    // Corners are classified by nearest seed but the bisector test by sign; they agree up to
-    // round-off, and a tie point is within r of both by the check above.
+    // Corners are classified by nearest seed but the bisector tests by sign; they agree up to
+    // round-off, and a tie point is within r of both seeds by the checks above.
     return true;
   }
 
