@@ -167,6 +167,42 @@ class Sampler {
     });
   }
 
+  // Seeds within r of base cube b, read from the grid itself: the cubes whose distance to b is
+  // below r are those at most two steps away along each axis, less the eight two steps away
+  // along all three (their distance is exactly r).
+  void seeds_near_base_cube(int64_t b, std::vector<Vec3>& near) const {
+    near.clear();
+    const auto& g = s_.grid;
+    const int i0 = int(b % g.nx), j0 = int((b / g.nx) % g.ny), k0 = int(b / (int64_t(g.nx) * g.ny));
+    const Vec3 lo = base_origin(b), hi = lo + Vec3{g.side, g.side, g.side};
+    const int64_t layer = int64_t(g.nx) * g.ny;
+    const int64_t first = s_.cube_offset, last = s_.cube_offset + int64_t(s_.cube_seed.size());
+    for (int k = std::max(0, k0 - 2); k <= std::min(g.nz - 1, k0 + 2); ++k)
+      for (int j = std::max(0, j0 - 2); j <= std::min(g.ny - 1, j0 + 2); ++j) {
+        const bool corner_row = std::abs(k - k0) == 2 && std::abs(j - j0) == 2;
+        const int64_t row = k * layer + int64_t(j) * g.nx;
+        if (row < first || row >= last) continue;
+        const int32_t* entry = s_.cube_seed.data() + (row - first);
+        for (int i = std::max(0, i0 - 2); i <= std::min(g.nx - 1, i0 + 2); ++i) {
+          if (corner_row && std::abs(i - i0) == 2) continue;
+          const int32_t q = entry[i];
+          if (q == -1) continue;
+          auto keep = [&](int32_t id) {
+            const Vec3 p = s_.seeds[id];
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) {
+              const double t = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
+              d2 += t * t;
+            }
+            if (d2 < r2_) near.push_back(p);
+          };
+          if (q >= 0) keep(q);
+          else
+            for (int32_t e = s_.cube_extra_begin[-2 - q]; e < s_.cube_extra_begin[-1 - q]; ++e) keep(s_.cube_extra[e]);
+        }
+      }
+  }
+
   // Is a seed closer than r to p? Most darts after the first level are, and stop at the first
   // one found.
   bool seed_within_r(Vec3 p) const {
@@ -679,7 +715,7 @@ class Sampler {
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         if (c.base != cached_base) {  // sub-cubes of one base cube are adjacent in the list
           cached_base = c.base;
-          seeds_near_box(base_origin(c.base), s_.grid.side, near_base);
+          seeds_near_base_cube(c.base, near_base);
         }
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz() * 2 * h};
         // Of the base cube's neighbours, those that may reach this cube.
