@@ -22,7 +22,6 @@
 #include <span>
 
 #include "common/random.hpp"
-#include "common/seed_buckets.hpp"
 #include "common/surface_locator.hpp"
 #include "sampling/protect.hpp"
 #include "common/tolerances.hpp"
@@ -86,7 +85,7 @@ int poisson(double u, double mean, double p0) {
 class Sampler {
  public:
   Sampler(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition)
-      : domain_(domain), buckets_(window_box(domain.bounds, r, partition), r), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling),
+      : domain_(domain), r_(r), r2_(r * r), seed_(seed), rng_(seed, RandomStream::Sampling),
         partition_(partition) {
     s_.grid = BackgroundGrid::covering(domain.bounds, r);
     const int64_t layer = int64_t(s_.grid.nx) * s_.grid.ny;
@@ -101,16 +100,6 @@ class Sampler {
     }
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
-  }
-
-  // The part of the domain's bounding box whose seeds this sampler keeps: the slab's window of
-  // layers in a partitioned run.
-  static Box window_box(Box box, double r, const SamplingPartition* partition) {
-    if (!partition) return box;
-    const BackgroundGrid g = BackgroundGrid::covering(box, r);
-    box.lo.z = g.origin.z + partition->slab.window_begin * g.side;
-    box.hi.z = std::min(box.hi.z, g.origin.z + partition->slab.window_end * g.side);
-    return box;
   }
 
   Sample run() {
@@ -151,22 +140,6 @@ class Sampler {
     return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
   }
 
-  // Seeds that may lie within r of some point of the cube [lo, lo + h]^3.
-  void seeds_near_box(Vec3 lo, double h, std::vector<Vec3>& near) const {
-    near.clear();
-    const Vec3 hi = lo + Vec3{h, h, h};
-    buckets_.for_each_near(lo, hi, r_, [&](int32_t q) {
-      // Keep q if its distance to the box is below r.
-      Vec3 p = s_.seeds[q];
-      double d2 = 0;
-      for (int a = 0; a < 3; ++a) {
-        double t = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
-        d2 += t * t;
-      }
-      if (d2 < r2_) near.push_back(p);
-    });
-  }
-
   // Seeds within r of base cube b, read from the grid itself: the cubes whose distance to b is
   // below r are those at most two steps away along each axis, less the eight two steps away
   // along all three (their distance is exactly r).
@@ -203,10 +176,49 @@ class Sampler {
       }
   }
 
-  // Is a seed closer than r to p? Most darts after the first level are, and stop at the first
-  // one found.
-  bool seed_within_r(Vec3 p) const {
-    return buckets_.for_each_near(p, p, r_, [&](int32_t q) { return norm2(s_.seeds[q] - p) < r2_; });
+  // The base cubes within r of a base cube, as offsets, nearest first: all within two steps along
+  // each axis but the cube itself and the eight two steps away along all three.
+  static const std::vector<std::array<int, 3>>& stencil() {
+    static const std::vector<std::array<int, 3>> offsets = [] {
+      std::vector<std::array<int, 3>> o;
+      for (int k = -2; k <= 2; ++k)
+        for (int j = -2; j <= 2; ++j)
+          for (int i = -2; i <= 2; ++i)
+            if ((i || j || k) && !(std::abs(i) == 2 && std::abs(j) == 2 && std::abs(k) == 2)) o.push_back({i, j, k});
+      auto steps = [](const std::array<int, 3>& d) {
+        int s = 0;
+        for (int a : d) s += std::max(std::abs(a) - 1, 0) * 4 + std::abs(a);
+        return s;
+      };
+      std::stable_sort(o.begin(), o.end(), [&](const auto& a, const auto& b) { return steps(a) < steps(b); });
+      return o;
+    }();
+    return offsets;
+  }
+
+  // Is a seed closer than r to p, a point of base cube b (which holds no seed)? Most darts after
+  // the first level are, and stop at the first one found, nearest cubes first.
+  bool seed_within_r(Vec3 p, int64_t b) const {
+    const auto& g = s_.grid;
+    const int i0 = int(b % g.nx), j0 = int((b / g.nx) % g.ny), k0 = int(b / (int64_t(g.nx) * g.ny));
+    const Vec3 q = p - g.origin;
+    for (const auto& [di, dj, dk] : stencil()) {
+      const int i = i0 + di, j = j0 + dj, k = k0 + dk;
+      if (!g.inside(i, j, k)) continue;
+      if (BackgroundGrid::axis_gap(q.x, i, g.side) + BackgroundGrid::axis_gap(q.y, j, g.side) +
+              BackgroundGrid::axis_gap(q.z, k, g.side) >= r2_)
+        continue;
+      const int64_t at = g.index(i, j, k) - s_.cube_offset;
+      if (at < 0 || at >= int64_t(s_.cube_seed.size())) continue;
+      const int32_t e = s_.cube_seed[at];
+      if (e >= 0) {
+        if (norm2(s_.seeds[e] - p) < r2_) return true;
+      } else if (e <= -2) {
+        for (int32_t x = s_.cube_extra_begin[-2 - e]; x < s_.cube_extra_begin[-1 - e]; ++x)
+          if (norm2(s_.seeds[s_.cube_extra[x]] - p) < r2_) return true;
+      }
+    }
+    return false;
   }
 
   // Per seed, the squared distance along each axis from the seed to the farther face of each
@@ -495,7 +507,7 @@ class Sampler {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
           if (!c.inside() && !inside_domain(p, c.base)) continue;
-          if (seed_within_r(p)) continue;
+          if (seed_within_r(p, c.base)) continue;
           found[ch].push_back({w[3], c.base, p});
         }
       }
@@ -516,7 +528,6 @@ class Sampler {
     std::sort(order.begin(), order.end());
     for (const auto& [key, c] : order) {
       cube_entry(all[c].base) = int32_t(s_.seeds.size());
-      buckets_.insert(int32_t(s_.seeds.size()), all[c].p);
       s_.seeds.push_back(all[c].p);
     }
   }
@@ -755,7 +766,6 @@ class Sampler {
       if (slot < 0 || slot >= int64_t(s_.cube_seed.size())) continue;  // outside this rank's window
       const int32_t id = int32_t(s_.seeds.size());
       s_.seeds.push_back(p.points[k]);
-      buckets_.insert(id, p.points[k]);
       s_.protected_seeds.push_back({id, p.kinds[k], p.inward[k]});
       in_cube[slot].push_back(id);
     }
@@ -794,7 +804,6 @@ class Sampler {
   }
 
   const Domain& domain_;
-  SeedBuckets buckets_;  // the seeds again, in cubes of side r, for neighbour queries
   // Boundary base cubes (sorted) and, for each, the domain planes that cut it.
   std::vector<uint32_t> boundary_base_, boundary_begin_;
   std::vector<int32_t> boundary_planes_;
