@@ -202,12 +202,16 @@ class Sampler {
     const auto& g = s_.grid;
     const int i0 = int(b % g.nx), j0 = int((b / g.nx) % g.ny), k0 = int(b / (int64_t(g.nx) * g.ny));
     const Vec3 q = p - g.origin;
+    double gap[3][5];  // squared distance from p to the slab of cube c0 + d along each axis
+    for (int d = -2; d <= 2; ++d) {
+      gap[0][d + 2] = BackgroundGrid::axis_gap(q.x, i0 + d, g.side);
+      gap[1][d + 2] = BackgroundGrid::axis_gap(q.y, j0 + d, g.side);
+      gap[2][d + 2] = BackgroundGrid::axis_gap(q.z, k0 + d, g.side);
+    }
     for (const auto& [di, dj, dk] : stencil()) {
+      if (gap[0][di + 2] + gap[1][dj + 2] + gap[2][dk + 2] >= r2_) continue;
       const int i = i0 + di, j = j0 + dj, k = k0 + dk;
       if (!g.inside(i, j, k)) continue;
-      if (BackgroundGrid::axis_gap(q.x, i, g.side) + BackgroundGrid::axis_gap(q.y, j, g.side) +
-              BackgroundGrid::axis_gap(q.z, k, g.side) >= r2_)
-        continue;
       const int64_t at = g.index(i, j, k) - s_.cube_offset;
       if (at < 0 || at >= int64_t(s_.cube_seed.size())) continue;
       const int32_t e = s_.cube_seed[at];
