@@ -28,6 +28,10 @@ struct BackgroundGrid {
   }
   size_t cube_count() const { return size_t(nx) * ny * nz; }
   int64_t index(int i, int j, int k) const { return (int64_t(k) * ny + j) * nx + i; }
+  // The inverse of index().
+  void coords(int64_t c, int& i, int& j, int& k) const {
+    i = int(c % nx), j = int((c / nx) % ny), k = int(c / (int64_t(nx) * ny));
+  }
   bool inside(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz;
   }

@@ -136,48 +136,36 @@ class Sampler {
 
   Vec3 base_origin(int64_t b) const {
     const auto& g = s_.grid;
-    int64_t i = b % g.nx, j = (b / g.nx) % g.ny, k = b / (int64_t(g.nx) * g.ny);
+    int i, j, k;
+    g.coords(b, i, j, k);
     return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
   }
 
-  // Seeds within r of base cube b, read from the grid itself: the cubes whose distance to b is
-  // below r are those at most two steps away along each axis, less the eight two steps away
-  // along all three (their distance is exactly r).
+  // Seeds within r of base cube b (which holds no seed), read from the grid itself through the
+  // stencil below.
   void seeds_near_base_cube(int64_t b, std::vector<Vec3>& near) const {
     near.clear();
     const auto& g = s_.grid;
-    const int i0 = int(b % g.nx), j0 = int((b / g.nx) % g.ny), k0 = int(b / (int64_t(g.nx) * g.ny));
+    int i0, j0, k0;
+    g.coords(b, i0, j0, k0);
     const Vec3 lo = base_origin(b), hi = lo + Vec3{g.side, g.side, g.side};
-    const int64_t layer = int64_t(g.nx) * g.ny;
-    const int64_t first = s_.cube_offset, last = s_.cube_offset + int64_t(s_.cube_seed.size());
-    for (int k = std::max(0, k0 - 2); k <= std::min(g.nz - 1, k0 + 2); ++k)
-      for (int j = std::max(0, j0 - 2); j <= std::min(g.ny - 1, j0 + 2); ++j) {
-        const bool corner_row = std::abs(k - k0) == 2 && std::abs(j - j0) == 2;
-        const int64_t row = k * layer + int64_t(j) * g.nx;
-        if (row < first || row >= last) continue;
-        const int32_t* entry = s_.cube_seed.data() + (row - first);
-        for (int i = std::max(0, i0 - 2); i <= std::min(g.nx - 1, i0 + 2); ++i) {
-          if (corner_row && std::abs(i - i0) == 2) continue;
-          const int32_t q = entry[i];
-          if (q == -1) continue;
-          auto keep = [&](int32_t id) {
-            const Vec3 p = s_.seeds[id];
-            double d2 = 0;
-            for (int a = 0; a < 3; ++a) {
-              const double t = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
-              d2 += t * t;
-            }
-            if (d2 < r2_) near.push_back(p);
-          };
-          if (q >= 0) keep(q);
-          else
-            for (int32_t e = s_.cube_extra_begin[-2 - q]; e < s_.cube_extra_begin[-1 - q]; ++e) keep(s_.cube_extra[e]);
+    for (const auto& [di, dj, dk] : stencil()) {
+      if (!g.inside(i0 + di, j0 + dj, k0 + dk)) continue;
+      s_.for_seeds_in_cube(g.index(i0 + di, j0 + dj, k0 + dk), [&](int32_t id) {
+        const Vec3 p = s_.seeds[id];
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a) {
+          const double t = p[a] < lo[a] ? lo[a] - p[a] : (p[a] > hi[a] ? p[a] - hi[a] : 0.0);
+          d2 += t * t;
         }
-      }
+        if (d2 < r2_) near.push_back(p);
+      });
+    }
   }
 
   // The base cubes within r of a base cube, as offsets, nearest first: all within two steps along
-  // each axis but the cube itself and the eight two steps away along all three.
+  // each axis but the cube itself and the eight two steps away along all three (their distance
+  // is exactly r).
   static const std::vector<std::array<int, 3>>& stencil() {
     static const std::vector<std::array<int, 3>> offsets = [] {
       std::vector<std::array<int, 3>> o;
@@ -200,7 +188,8 @@ class Sampler {
   // the first level are, and stop at the first one found, nearest cubes first.
   bool seed_within_r(Vec3 p, int64_t b) const {
     const auto& g = s_.grid;
-    const int i0 = int(b % g.nx), j0 = int((b / g.nx) % g.ny), k0 = int(b / (int64_t(g.nx) * g.ny));
+    int i0, j0, k0;
+    g.coords(b, i0, j0, k0);
     const Vec3 q = p - g.origin;
     double gap[3][5];  // squared distance from p to the slab of cube c0 + d along each axis
     for (int d = -2; d <= 2; ++d) {
@@ -210,17 +199,10 @@ class Sampler {
     }
     for (const auto& [di, dj, dk] : stencil()) {
       if (gap[0][di + 2] + gap[1][dj + 2] + gap[2][dk + 2] >= r2_) continue;
-      const int i = i0 + di, j = j0 + dj, k = k0 + dk;
-      if (!g.inside(i, j, k)) continue;
-      const int64_t at = g.index(i, j, k) - s_.cube_offset;
-      if (at < 0 || at >= int64_t(s_.cube_seed.size())) continue;
-      const int32_t e = s_.cube_seed[at];
-      if (e >= 0) {
-        if (norm2(s_.seeds[e] - p) < r2_) return true;
-      } else if (e <= -2) {
-        for (int32_t x = s_.cube_extra_begin[-2 - e]; x < s_.cube_extra_begin[-1 - e]; ++x)
-          if (norm2(s_.seeds[s_.cube_extra[x]] - p) < r2_) return true;
-      }
+      if (!g.inside(i0 + di, j0 + dj, k0 + dk)) continue;
+      bool hit = false;
+      s_.for_seeds_in_cube(g.index(i0 + di, j0 + dj, k0 + dk), [&](int32_t id) { hit |= norm2(s_.seeds[id] - p) < r2_; });
+      if (hit) return true;
     }
     return false;
   }
@@ -598,7 +580,9 @@ class Sampler {
   // Interleaved bits of a base cube's coordinates.
   uint64_t morton(int64_t b) const {
     const auto& g = s_.grid;
-    const uint64_t c[3] = {uint64_t(b % g.nx), uint64_t((b / g.nx) % g.ny), uint64_t(b / (int64_t(g.nx) * g.ny))};
+    int i, j, k;
+    g.coords(b, i, j, k);
+    const uint64_t c[3] = {uint64_t(i), uint64_t(j), uint64_t(k)};
     uint64_t key = 0;
     for (int bit = 0; bit < 21; ++bit)
       for (int a = 0; a < 3; ++a) key |= ((c[a] >> bit) & 1) << (3 * bit + a);
