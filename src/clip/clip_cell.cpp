@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -58,16 +60,27 @@ struct Edge {
 };
 
 // Newell vector area of a loop.
-Vec3 loop_area(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop) {
+Vec3 loop_area(const std::vector<Vec3>& pts, std::span<const int32_t> loop) {
   Vec3 a{};
   for (size_t k = 0; k < loop.size(); ++k) a = a + cross(pts[loop[k]], pts[loop[(k + 1) % loop.size()]]);
   return 0.5 * a;
 }
 
-// Chains directed edges into closed loops; false if a point has two outgoing edges or a chain
-// does not close.
-bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t>>& loops) {
-  std::vector<Edge> next(edges);  // sorted by start point: the edge leaving p is found by bisection
+// Closed loops of point ids, flat: loop k is ids[begin[k] .. begin[k + 1]).
+struct Loops {
+  std::vector<int32_t> ids;
+  std::vector<uint32_t> begin{0};
+  size_t size() const { return begin.size() - 1; }
+  std::span<const int32_t> operator[](size_t k) const { return {ids.data() + begin[k], begin[k + 1] - begin[k]}; }
+  void clear() { ids.clear(), begin.assign(1, 0); }
+};
+
+// Chains directed edges into closed loops (each starting at the first of its edges in `edges`);
+// false if a point has two outgoing edges or a chain does not close. `next` and `used` are
+// scratch.
+bool chain_loops(const std::vector<Edge>& edges, Loops& loops, std::vector<Edge>& next, std::vector<uint8_t>& used) {
+  loops.clear();
+  next.assign(edges.begin(), edges.end());  // sorted by start point: the edge leaving p is found by bisection
   std::sort(next.begin(), next.end());
   for (size_t k = 1; k < next.size(); ++k)
     if (next[k].from == next[k - 1].from) return false;
@@ -75,20 +88,19 @@ bool chain_loops(const std::vector<Edge>& edges, std::vector<std::vector<int32_t
     auto it = std::lower_bound(next.begin(), next.end(), Edge{p, INT32_MIN});
     return it != next.end() && it->from == p ? size_t(it - next.begin()) : next.size();
   };
-  std::vector<uint8_t> used(next.size(), 0);  // per point, by its edge's index in `next`
+  used.assign(next.size(), 0);  // per point, by its edge's index in `next`
   for (const Edge& e : edges) {
     size_t i = leaving(e.from);
     if (used[i]) continue;
-    std::vector<int32_t> loop;
     int32_t p = e.from;
     while (i < next.size() && !used[i]) {
       used[i] = 1;
-      loop.push_back(p);
+      loops.ids.push_back(p);
       p = next[i].to;
       i = leaving(p);
     }
     if (i == next.size() || p != e.from) return false;
-    loops.push_back(std::move(loop));
+    loops.begin.push_back(uint32_t(loops.ids.size()));
   }
   return true;
 }
@@ -203,6 +215,39 @@ bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host,
 
 }  // namespace
 
+// Everything clip() builds, kept from cell to cell: a clipped cell would otherwise allocate a
+// few dozen small vectors, about a tenth of its time.
+struct CellClipper::Scratch {
+  std::vector<int32_t> tris;
+  std::vector<Plane> plane;
+  std::vector<Vec3> pts;
+  std::vector<Names> keys;
+  std::vector<int32_t> table;
+  std::vector<std::vector<Edge>> on_face;
+  std::vector<std::pair<uint64_t, int32_t>> crossings;
+  std::vector<std::pair<int32_t, Edge>> border;
+  std::vector<PolyVertex> poly, next;
+  std::vector<Names> vnames;
+  struct VEdge {
+    int32_t u, w;
+    uint32_t cross_begin, cross_end;  // into crossings
+    size_t count() const { return cross_end - cross_begin; }
+  };
+  std::vector<VEdge> edges;
+  std::vector<uint32_t> edge_begin, out_begin, fill;
+  std::vector<std::pair<int32_t, int32_t>> out_edge;
+  std::vector<int8_t> status;
+  std::vector<int32_t> face_gen, along, used_map;
+  Loops faces, loops;
+  std::vector<Edge> segs, plane_edges, kept, all, chain_next;
+  std::vector<uint8_t> chain_used;
+  UnionFind parts{0};
+};
+
+CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens)
+    : domain_(domain), gens_(gens), s_(std::make_unique<Scratch>()) {}
+CellClipper::~CellClipper() = default;
+
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
                                       const std::vector<Vec3>& seeds, ClippedCell& out, std::string& error) {
   const SurfaceLocator& locator = *domain_.locator;
@@ -211,13 +256,16 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   Vec3 lo = cell.vertex(0), hi = lo;
   for (size_t v = 0; v < nv; ++v)
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], cell.vertex(v)[a]), hi[a] = std::max(hi[a], cell.vertex(v)[a]);
-  std::vector<int32_t> tris;
+  Scratch& w = *s_;
+  std::vector<int32_t>& tris = w.tris;
+  tris.clear();
   locator.triangles_near(x + lo, x + hi, tris);
   if (tris.empty()) return Result::Inside;
 
   // The planes of V's faces, computed exactly as the cell builder cut them.
   static const Vec3 cube_normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-  std::vector<Plane> plane(nf);
+  std::vector<Plane>& plane = w.plane;
+  plane.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
     const int32_t g = cell.face_generator(f);
     if (ConvexCell::is_cube_generator(g)) {
@@ -234,9 +282,10 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
 
   // Every point met, by name: an open-addressing table of indices into pts/keys, grown at
   // half full.
-  std::vector<Vec3> pts;
-  std::vector<Names> keys;
-  std::vector<int32_t> table(256, -1);
+  std::vector<Vec3>& pts = w.pts;
+  std::vector<Names>& keys = w.keys;
+  std::vector<int32_t>& table = w.table;
+  pts.clear(), keys.clear(), table.assign(256, -1);
   auto slot_of = [&](const Names& k) {
     uint64_t h = k.n;
     for (int i = 0; i < k.n; ++i) h = (h ^ uint32_t(k.gen[i])) * 0x9E3779B97F4A7C15ull;
@@ -258,10 +307,14 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   };
 
   // 1. Each nearby triangle clipped by V (Sutherland-Hodgman), its points named as they arise.
-  std::vector<std::vector<Edge>> on_face(nf);                    // cross-section edges per V face
-  std::vector<std::pair<uint64_t, int32_t>> crossings;  // (V edge's generator pair, point), sorted after step 1
-  std::vector<std::pair<int32_t, Edge>> border;                  // piece edges, by facet plane
-  std::vector<PolyVertex> poly, next;
+  auto& on_face = w.on_face;  // cross-section edges per V face
+  if (on_face.size() < nf) on_face.resize(nf);
+  for (size_t f = 0; f < nf; ++f) on_face[f].clear();
+  auto& crossings = w.crossings;  // (V edge's generator pair, point), sorted after step 1
+  auto& border = w.border;        // piece edges, by facet plane
+  auto& poly = w.poly;
+  auto& next = w.next;
+  crossings.clear(), border.clear();
   for (int32_t t : tris) {
     const auto& tri = S.triangles[t];
     const int32_t facet = gens_.plane(domain_.triangle_plane[t]);
@@ -309,12 +362,12 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     int32_t idx[64];
     for (size_t k = 0; k < poly.size(); ++k) idx[k] = intern(poly[k].key, poly[k].p);
     for (size_t k = 0; k < poly.size(); ++k) {
-      const int32_t u = idx[k], w = idx[(k + 1) % poly.size()], label = poly[k].out_label;
-      border.push_back({facet, {u, w}});
+      const int32_t u = idx[k], v = idx[(k + 1) % poly.size()], label = poly[k].out_label;
+      border.push_back({facet, {u, v}});
       if (is_cell_generator(label)) {
         size_t f = 0;
         while (cell.face_generator(f) != label) ++f;  // V has a face on every label it cut with
-        on_face[f].push_back({w, u});
+        on_face[f].push_back({v, u});
       }
       // A point on two of V's faces is where V's edge between them crosses the triangle.
       const Names& kk = poly[k].key;
@@ -327,27 +380,26 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
 
   // 2. Which of V's vertices are inside: parity from the anchor to one, then along V's edges,
   // toggling at each crossing.
-  std::vector<Names> vnames;
+  std::vector<Names>& vnames = w.vnames;
   cell.vertex_names(vnames);
   for (Names& k : vnames) std::sort(k.gen, k.gen + k.n);
   // V's directed edges face by face (edge k of face f is edges[edge_begin[f] + k]), each with
   // the surface crossings on it: those named by the generators of its two faces.
   std::sort(crossings.begin(), crossings.end());
-  struct VEdge {
-    int32_t u, w;
-    uint32_t cross_begin, cross_end;  // into crossings
-    size_t count() const { return cross_end - cross_begin; }
-  };
-  std::vector<VEdge> edges;
-  std::vector<uint32_t> edge_begin(nf + 1, 0);
+  auto& edges = w.edges;
+  auto& edge_begin = w.edge_begin;
+  edges.clear(), edge_begin.assign(nf + 1, 0);
   // The directed edges leaving each vertex (three, generically), with their faces.
-  std::vector<uint32_t> out_begin(nv + 1, 0);
+  auto& out_begin = w.out_begin;
+  out_begin.assign(nv + 1, 0);
   for (size_t f = 0; f < nf; ++f)
     for (size_t k = 0; k < cell.face_size(f); ++k) ++out_begin[cell.face_begin(f)[k] + 1];
   for (size_t v = 0; v < nv; ++v) out_begin[v + 1] += out_begin[v];
-  std::vector<std::pair<int32_t, int32_t>> out_edge(out_begin[nv]);  // (to, face)
+  auto& out_edge = w.out_edge;  // (to, face)
+  out_edge.resize(out_begin[nv]);
   {
-    std::vector<uint32_t> fill(out_begin.begin(), out_begin.end() - 1);
+    auto& fill = w.fill;
+    fill.assign(out_begin.begin(), out_begin.end() - 1);
     for (size_t f = 0; f < nf; ++f) {
       const uint16_t* fv = cell.face_begin(f);
       const size_t n = cell.face_size(f);
@@ -358,20 +410,21 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     const uint16_t* fv = cell.face_begin(f);
     const size_t n = cell.face_size(f);
     for (size_t k = 0; k < n; ++k) {
-      const int32_t u = fv[k], w = fv[(k + 1) % n];
-      int32_t twin = -1;  // the face on the other side: the one with the edge w -> u
-      for (uint32_t o = out_begin[w]; o < out_begin[w + 1]; ++o)
+      const int32_t u = fv[k], v = fv[(k + 1) % n];
+      int32_t twin = -1;  // the face on the other side: the one with the edge v -> u
+      for (uint32_t o = out_begin[v]; o < out_begin[v + 1]; ++o)
         if (out_edge[o].first == u) twin = out_edge[o].second;
       if (twin < 0) return fail_with("the Voronoi cell's faces do not close");
       const uint64_t key = generator_pair(cell.face_generator(f), cell.face_generator(size_t(twin)));
       const auto lo = std::lower_bound(crossings.begin(), crossings.end(), std::pair<uint64_t, int32_t>{key, INT32_MIN});
       auto hi = lo;
       while (hi != crossings.end() && hi->first == key) ++hi;
-      edges.push_back({u, w, uint32_t(lo - crossings.begin()), uint32_t(hi - crossings.begin())});
+      edges.push_back({u, v, uint32_t(lo - crossings.begin()), uint32_t(hi - crossings.begin())});
     }
     edge_begin[f + 1] = uint32_t(edges.size());
   }
-  std::vector<int8_t> status(nv, -1);
+  std::vector<int8_t>& status = w.status;
+  status.assign(nv, -1);
   for (size_t v = 0; v < nv; ++v) {
     bool in;
     if (locator.side_from(x + anchor, true, x + cell.vertex(v), tris, in)) {
@@ -383,43 +436,56 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     return fail_with("every segment from the seed to a cell vertex grazes the surface (degenerate)");
   for (bool changed = true; changed;) {
     changed = false;
-    for (const VEdge& e : edges) {
+    for (const Scratch::VEdge& e : edges) {
       if (status[e.u] < 0 || status[e.w] >= 0) continue;
       status[e.w] = int8_t(status[e.u] ^ (e.count() & 1));
       changed = true;
     }
   }
-  for (const VEdge& e : edges)
+  for (const Scratch::VEdge& e : edges)
     if (status[e.w] != (status[e.u] ^ int8_t(e.count() & 1)))
       return fail_with("the surface crossings along the cell's edges are inconsistent (near-degenerate input)");
 
   // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
-  std::vector<int32_t> face_gen;
-  std::vector<std::vector<int32_t>> faces;
+  std::vector<int32_t>& face_gen = w.face_gen;
+  Loops& faces = w.faces;
+  Loops& loops = w.loops;
+  face_gen.clear(), faces.clear();
   // Adds the loops of one plane (normal n) as faces on generator g. A loop turning clockwise
   // about n is a hole in another: a polygon with a hole is no VTK face, so its host is cut in
   // two along two bridges.
-  auto add_faces_cut_around_holes = [&](std::vector<std::vector<int32_t>>& plane_loops, Vec3 n, int32_t g) {
+  auto add_faces_cut_around_holes = [&](const Loops& plane_loops, Vec3 n, int32_t g) {
+    auto add = [&](std::span<const int32_t> loop) {
+      face_gen.push_back(g);
+      faces.ids.insert(faces.ids.end(), loop.begin(), loop.end());
+      faces.begin.push_back(uint32_t(faces.ids.size()));
+    };
+    bool any_hole = false;
+    for (size_t k = 0; k < plane_loops.size(); ++k) any_hole |= !(dot(loop_area(pts, plane_loops[k]), n) > 0);
+    if (!any_hole) {  // the usual case
+      for (size_t k = 0; k < plane_loops.size(); ++k) add(plane_loops[k]);
+      return true;
+    }
     std::vector<std::vector<int32_t>> outer, holes;
-    for (auto& loop : plane_loops) (dot(loop_area(pts, loop), n) > 0 ? outer : holes).push_back(std::move(loop));
+    for (size_t k = 0; k < plane_loops.size(); ++k) {
+      const auto loop = plane_loops[k];
+      (dot(loop_area(pts, loop), n) > 0 ? outer : holes).emplace_back(loop.begin(), loop.end());
+    }
     for (auto& hole : holes) {
       auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], n); });
       if (host == outer.end() || !split_around_hole(pts, *host, hole, holes, n, outer)) return false;
     }
-    for (auto& loop : outer) {
-      face_gen.push_back(g);
-      faces.push_back(std::move(loop));
-    }
+    for (const auto& loop : outer) add(loop);
     return true;
   };
-  std::vector<std::vector<int32_t>> loops;
-  std::vector<int32_t> along;
+  std::vector<int32_t>& along = w.along;
+  std::vector<Edge>& segs = w.segs;
   for (size_t f = 0; f < nf; ++f) {
     const int32_t g = cell.face_generator(f);
-    std::vector<Edge> segs = on_face[f];
+    segs.assign(on_face[f].begin(), on_face[f].end());
     for (uint32_t e = edge_begin[f]; e < edge_begin[f + 1]; ++e) {
-      const int32_t u = edges[e].u, w = edges[e].w;
-      const Vec3 pu = cell.vertex(u), dir = cell.vertex(w) - pu;
+      const int32_t u = edges[e].u, v = edges[e].w;
+      const Vec3 pu = cell.vertex(u), dir = cell.vertex(v) - pu;
       along.clear();
       for (uint32_t c = edges[e].cross_begin; c < edges[e].cross_end; ++c) along.push_back(crossings[c].second);
       std::sort(along.begin(), along.end(),
@@ -431,13 +497,13 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
         cur = q;
         in = !in;
       }
-      if (in) segs.push_back({cur, intern(vnames[w], cell.vertex(w))});
+      if (in) segs.push_back({cur, intern(vnames[v], cell.vertex(v))});
     }
     if (segs.empty()) continue;
     if (ConvexCell::is_cube_generator(g))
       return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
-    loops.clear();
-    if (!chain_loops(segs, loops)) return fail_with(fmt::format("the face on generator {} does not close", g));
+    if (!chain_loops(segs, loops, w.chain_next, w.chain_used))
+      return fail_with(fmt::format("the face on generator {} does not close", g));
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
     // in-plane frame is this one mirrored), so the faces still match.
@@ -452,17 +518,17 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   std::sort(border.begin(), border.end(), [](const auto& a, const auto& b) {
     return a.first != b.first ? a.first < b.first : a.second < b.second;
   });
-  std::vector<Edge> plane_edges;
+  std::vector<Edge>& plane_edges = w.plane_edges;
+  std::vector<Edge>& kept = w.kept;
   for (size_t at = 0; at < border.size();) {
     const int32_t facet = border[at].first;
     plane_edges.clear();
     for (; at < border.size() && border[at].first == facet; ++at) plane_edges.push_back(border[at].second);
-    std::vector<Edge> kept;
+    kept.clear();
     for (const Edge& e : plane_edges)
       if (!std::binary_search(plane_edges.begin(), plane_edges.end(), Edge{e.to, e.from})) kept.push_back(e);
     if (kept.empty()) continue;
-    loops.clear();
-    if (!chain_loops(kept, loops))
+    if (!chain_loops(kept, loops, w.chain_next, w.chain_used))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
     if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
       return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
@@ -472,21 +538,27 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   }
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.
-  std::vector<Edge> all;
-  for (const auto& face : faces)
+  std::vector<Edge>& all = w.all;
+  all.clear();
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const auto face = faces[f];
     for (size_t k = 0; k < face.size(); ++k) all.push_back({face[k], face[(k + 1) % face.size()]});
+  }
   std::sort(all.begin(), all.end());
   for (size_t k = 0; k < all.size(); ++k)
     if ((k > 0 && !(all[k - 1] < all[k])) || !std::binary_search(all.begin(), all.end(), Edge{all[k].to, all[k].from}))
       return fail_with("the clipped cell is not closed");
-  UnionFind parts(pts.size());
+  UnionFind& parts = w.parts;
+  parts.parent.resize(pts.size());
+  std::iota(parts.parent.begin(), parts.parent.end(), 0);
   for (const Edge& e : all) parts.unite(e.from, e.to);
-  std::vector<int32_t> used_map(pts.size(), -1);
+  std::vector<int32_t>& used_map = w.used_map;
+  used_map.assign(pts.size(), -1);
   out.points_.clear(), out.names_.clear(), out.face_gen_.assign(face_gen.begin(), face_gen.end());
   out.face_start_.assign(1, 0), out.face_vert_.clear();
   int32_t root = -1;
-  for (const auto& face : faces) {
-    for (int32_t p : face) {
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (int32_t p : faces[f]) {
       if (root < 0) root = parts.find(p);
       if (parts.find(p) != root)
         return fail_with("the cell's part of the domain is in several pieces: r is too large for the domain's "
@@ -501,7 +573,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     }
     out.face_start_.push_back(uint32_t(out.face_vert_.size()));
   }
-  if (faces.empty()) return fail_with("the cell lies outside the domain");
+  if (faces.size() == 0) return fail_with("the cell lies outside the domain");
   return Result::Clipped;
 }
 

@@ -10,6 +10,7 @@
 // common bisector, because each is the bisector polygon cut by the same cross-section of D.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,9 @@ class ClippedCell {
 
 class CellClipper {
  public:
-  CellClipper(const Domain& domain, const SurfaceGenerators& gens) : domain_(domain), gens_(gens) {}
+  // One clipper per thread: it keeps its scratch from cell to cell.
+  CellClipper(const Domain& domain, const SurfaceGenerators& gens);
+  ~CellClipper();
 
   // TooCoarse: the domain has features smaller than r here (a thin wall, a narrow gap); the
   // error text says which.
@@ -64,8 +67,10 @@ class CellClipper {
               ClippedCell& out, std::string& error);
 
  private:
+  struct Scratch;
   const Domain& domain_;
   const SurfaceGenerators& gens_;
+  std::unique_ptr<Scratch> s_;
 };
 
 }  // namespace froth

@@ -118,6 +118,11 @@ class CellBuilder {
     if (!domain.convex) generators_.emplace(domain);
   }
 
+  // A clipper for one thread, or none for a convex domain.
+  std::unique_ptr<CellClipper> make_clipper() const {
+    return domain_.convex ? nullptr : std::make_unique<CellClipper>(domain_, *generators_);
+  }
+
   // What went wrong with a cell: r too large for the domain's features here is the user's to
   // change (Usage); anything else is froth's (Internal).
   struct CellError {
@@ -129,9 +134,10 @@ class CellBuilder {
   };
 
   // Builds cell i into `cell`, or, when it meets a non-convex domain's surface, into `clipped`
-  // (then `is_clipped` is set); returns no error or what went wrong.
-  CellError build(int32_t i, ConvexCell& cell, ClippedCell& clipped, bool& is_clipped, std::vector<Neighbour>& nb,
-                    std::vector<ConvexCell::Names>& names) const {
+  // (then `is_clipped` is set) with `clipper`, the thread's own; returns no error or what went
+  // wrong.
+  CellError build(int32_t i, ConvexCell& cell, CellClipper* clipper, ClippedCell& clipped, bool& is_clipped,
+                  std::vector<Neighbour>& nb, std::vector<ConvexCell::Names>& names) const {
     const Vec3 x = sample_.seeds[i];
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
     cell.reset_cube(half);
@@ -168,11 +174,10 @@ class CellBuilder {
     }
     if (!domain_.convex) {
       std::string error;
-      CellClipper clipper(domain_, *generators_);
       // A protection seed lies on the surface: inside tests start from a point just off it.
       const Sample::Protected* p = sample_.protection_of(i);
       const Vec3 anchor = p ? 1e-6 * r_ * p->inward : Vec3{};
-      const CellClipper::Result result = clipper.clip(i, x, anchor, cell, half, sample_.seeds, clipped, error);
+      const CellClipper::Result result = clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, error);
       if (result == CellClipper::Result::TooCoarse) return {error, ErrorKind::Usage};
       if (result == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
@@ -272,6 +277,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   {
     ConvexCell cell;
     ClippedCell clipped;
+    const std::unique_ptr<CellClipper> clipper = builder.make_clipper();
     bool is_clipped = false;
     std::vector<Neighbour> nb;
     std::vector<ConvexCell::Names> names;
@@ -281,7 +287,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
       for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
         const int32_t i = first_seed + int32_t(k);
-        CellBuilder::CellError err = builder.build(i, cell, clipped, is_clipped, nb, names);
+        CellBuilder::CellError err = builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names);
         if (err.failed()) {
           std::lock_guard lock(error_mutex);
           if (k < first_bad) first_bad = k, first_error = err;
