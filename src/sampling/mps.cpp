@@ -249,6 +249,10 @@ class Sampler {
     return cc.nearest[p];
   }
 
+  // A cube's edges as pairs of corners; corner k is lo + h * (k & 1, k >> 1 & 1, k >> 2).
+  static constexpr int kCubeEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
+                                            {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+
   // Is child (dx, dy, dz) of the parent described by `ff` and `cc` inside the union of the
   // r-balls around `near`? Exact for one ball (the farthest corner is within r). Otherwise, when
   // the corners' nearest seeds are two or three seeds S, exact for the balls of S: the cube is
@@ -274,14 +278,12 @@ class Sampler {
     }
     if (sites < 2) return false;
     const double limit = r2_ * (1 - 1e-12);
-    static constexpr int edges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
-                                         {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
     for (int i = 0; i < sites; ++i)
       for (int j = i + 1; j < sites; ++j) {
         const Vec3 qa = near[site[i]], qb = near[site[j]];
         const Vec3 n = qb - qa;
         const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
-        for (const auto& e : edges) {
+        for (const auto& e : kCubeEdges) {
           const double su = dot(n, corner[e[0]]) - mid, sv = dot(n, corner[e[1]]) - mid;
           if ((su < 0) == (sv < 0)) continue;
           const Vec3 x = corner[e[0]] + (su / (su - sv)) * (corner[e[1]] - corner[e[0]]);
@@ -310,6 +312,125 @@ class Sampler {
     }
     // Corners are classified by nearest seed but the bisector tests by sign; they agree up to
     // round-off, and a tie point is within r of both seeds by the checks above.
+    return true;
+  }
+
+  // Is the part of child (dx, dy, dz) on the inner side of `pl` inside the union of the r-balls
+  // around `near`? The same exact test as covered() on the convex piece P = child ∩ {pl <= 0}
+  // (made a round-off margin larger, so that it holds the domain's part): P's vertices are the
+  // child's corners inside and the crossings of its edges with the plane; its edges, the inside
+  // parts of the child's edges and the plane's section of each face; the three-seed line is
+  // clipped to P. A cube cut by the boundary is often covered where it is inside the domain while
+  // its part outside is not, and covered() alone keeps refining it (half of the cut sub-cubes
+  // of the tube: measured with 256 random points each).
+  bool covered_below_plane(const std::vector<Vec3>& near, CornerCache& cc, int dx, int dy, int dz,
+                           const Plane& pl) const {
+    const Vec3 lo = cc.point(((dz * 3) + dy) * 3 + dx);
+    const double h = cc.h;
+    const double margin = 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
+    Vec3 corner[8];
+    double sd[8];
+    int lattice[8];  // the corners' points in the parent's lattice
+    for (int k = 0; k < 8; ++k) {
+      lattice[k] = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
+      corner[k] = cc.point(lattice[k]);
+      sd[k] = pl.signed_distance(corner[k]) - margin;
+    }
+    Vec3 vert[20], seg[24][2];
+    int nv = 0, ns = 0, cross_at[12], site[3], sites = 0;
+    auto add_site = [&](int n) {
+      if (std::find(site, site + sites, n) != site + sites) return true;
+      if (sites == 3) return false;
+      site[sites++] = n;
+      return true;
+    };
+    for (int k = 0; k < 8; ++k) {
+      if (sd[k] > 0) continue;
+      const int n = nearest_to_corner(lattice[k], near, cc);
+      if (cc.dist2[lattice[k]] > r2_ || !add_site(n)) return false;
+      vert[nv++] = corner[k];
+    }
+    const int corners_inside = nv;
+    if (nv == 0) return false;  // the plane only grazes the child: keep it
+    for (int e = 0; e < 12; ++e) {
+      const int a = kCubeEdges[e][0], b = kCubeEdges[e][1];
+      cross_at[e] = -1;
+      if ((sd[a] <= 0) && (sd[b] <= 0)) {
+        seg[ns][0] = corner[a], seg[ns++][1] = corner[b];
+      } else if ((sd[a] <= 0) != (sd[b] <= 0)) {
+        const Vec3 x = corner[a] + (sd[a] / (sd[a] - sd[b])) * (corner[b] - corner[a]);
+        cross_at[e] = nv;
+        vert[nv++] = x;
+        seg[ns][0] = sd[a] <= 0 ? corner[a] : corner[b], seg[ns++][1] = x;
+      }
+    }
+    // The plane's section of each face joins its two crossings (other counts: degenerate, keep).
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side) {
+        int on[4], m = 0;
+        for (int e = 0; e < 12; ++e) {
+          const int a = kCubeEdges[e][0], b = kCubeEdges[e][1];
+          if ((a >> axis & 1) == side && (b >> axis & 1) == side && cross_at[e] >= 0) on[m++] = cross_at[e];
+        }
+        if (m == 2) seg[ns][0] = vert[on[0]], seg[ns++][1] = vert[on[1]];
+        else if (m != 0) return false;
+      }
+    // The crossings' nearest seeds (the corners' are cached).
+    for (int v = corners_inside; v < nv; ++v) {
+      double best = INFINITY;
+      int arg = -1;
+      for (size_t i = 0; i < near.size(); ++i) {
+        const double d = norm2(near[i] - vert[v]);
+        if (d < best) best = d, arg = int(i);
+      }
+      if (best > r2_ || !add_site(arg)) return false;
+    }
+    if (sites < 2) return true;
+    const double limit = r2_ * (1 - 1e-12);
+    for (int i = 0; i < sites; ++i)
+      for (int j = i + 1; j < sites; ++j) {
+        const Vec3 qa = near[site[i]], qb = near[site[j]];
+        const Vec3 n = qb - qa;
+        const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
+        for (int e = 0; e < ns; ++e) {
+          const double su = dot(n, seg[e][0]) - mid, sv = dot(n, seg[e][1]) - mid;
+          if ((su < 0) == (sv < 0)) continue;
+          const Vec3 x = seg[e][0] + (su / (su - sv)) * (seg[e][1] - seg[e][0]);
+          const double d2 = norm2(x - qa);
+          if (sites == 3 && norm2(x - near[site[3 - i - j]]) < d2) continue;  // inside the third's piece
+          if (d2 >= limit) return false;
+        }
+      }
+    if (sites == 3) {
+      // The equidistant line's part in P, as an interval of t along centre + t * axis; its ends
+      // are its crossings with P's faces.
+      const Vec3 a = near[site[0]], b = near[site[1]] - a, c = near[site[2]] - a;
+      const Vec3 axis = cross(b, c);
+      const double w = norm2(axis);
+      if (!(w > 1e-24 * r2_ * r2_)) return false;  // (nearly) collinear: give up
+      const Vec3 centre = a + (1 / (2 * w)) * cross(norm2(b) * c - norm2(c) * b, axis);
+      double t0 = -INFINITY, t1 = INFINITY;
+      auto keep_below = [&](Vec3 n, double offset) {  // t with dot(n, centre + t axis) <= offset
+        const double s0 = dot(n, centre) - offset, ds = dot(n, axis);
+        if (ds == 0) {
+          if (s0 > 0) t0 = INFINITY;
+        } else if (ds > 0) {
+          t1 = std::min(t1, -s0 / ds);
+        } else {
+          t0 = std::max(t0, -s0 / ds);
+        }
+      };
+      for (int ax = 0; ax < 3; ++ax) {
+        Vec3 e{};
+        e[ax] = 1;
+        keep_below(e, lo[ax] + h);
+        keep_below(-1.0 * e, -lo[ax]);
+      }
+      keep_below(pl.normal, pl.offset + margin);
+      if (t0 <= t1)
+        for (double t : {t0, t1})
+          if (norm2(centre + t * axis - a) >= limit) return false;
+    }
     return true;
   }
 
@@ -358,12 +479,35 @@ class Sampler {
     return true;
   }
 
-  // classify_box for a sub-cube of boundary base cube `base`.
-  int classify_sub_box(Vec3 lo, double h, uint32_t base) const {
-    if (domain_.convex) return classify_box(lo, h, cutting_planes(base));
+  // classify_box for a sub-cube of boundary base cube `base`. When it is cut (0), `plane`
+  // receives a facet plane whose inner side holds the domain's part of the sub-cube, or -1: for
+  // a convex domain any plane that cuts it; otherwise the plane of the triangles that meet it, if
+  // they all lie in one (their union then spans the sub-cube, as the surface is closed).
+  int classify_sub_box(Vec3 lo, double h, uint32_t base, int32_t& plane) const {
+    plane = -1;
+    if (domain_.convex) {
+      int cls = 1;
+      for (int32_t id : cutting_planes(base)) {
+        const Plane& pl = domain_.planes[id];
+        double dmin = pl.signed_distance(lo), dmax = dmin;
+        for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
+        if (dmin > 0) return -1;
+        if (dmax > 0 && cls > 0) cls = 0, plane = id;
+      }
+      return cls;
+    }
     const Vec3 hi = lo + Vec3{h, h, h};
-    for (int32_t t : cutting_planes(base))
-      if (domain_.locator->triangle_meets_box(t, lo, hi)) return 0;
+    int32_t first = -1;
+    for (int32_t t : cutting_planes(base)) {
+      if (first >= 0 && domain_.triangle_plane[t] == domain_.triangle_plane[first]) continue;
+      if (!domain_.locator->triangle_meets_box(t, lo, hi)) continue;
+      if (first >= 0) return 0;  // triangles of two planes
+      first = t;
+    }
+    if (first >= 0) {
+      plane = domain_.triangle_plane[first];
+      return 0;
+    }
     return inside_domain(lo + Vec3{h / 2, h / 2, h / 2}, base) ? 1 : -1;
   }
 
@@ -399,6 +543,49 @@ class Sampler {
     return {p, side > 0};
   }
 
+  // The base cubes of the box of n^3 cubes from (i0, j0, k0) (n a power of two), which `cut`
+  // meets and of which `ref` is a point of known side, for a non-convex domain: each octant is
+  // tested against the triangles that meet the box, then either taken whole (inside), dropped
+  // (outside) or split again, down to single cubes, which get their triangles and reference
+  // point (their centre) as in initial_cubes.
+  void classify_cut_octants(int i0, int j0, int k0, int n, const std::vector<int32_t>& cut, const Reference& ref,
+                            std::vector<ActiveCube>& cubes, std::vector<std::pair<uint32_t, int32_t>>& cuts,
+                            std::vector<std::pair<uint32_t, Reference>>& refs) const {
+    const auto& g = s_.grid;
+    const int m = n / 2;
+    std::vector<int32_t> sub;
+    for (int o = 0; o < 8; ++o) {
+      const int i = i0 + (o & 1) * m, j = j0 + (o >> 1 & 1) * m, k = k0 + (o >> 2) * m;
+      if (i >= g.nx || j >= g.ny || k >= std::min(g.nz, owned_end_) || k + m <= owned_begin_) continue;
+      const Vec3 lo = g.origin + Vec3{i * g.side, j * g.side, k * g.side};
+      const double h = m * g.side;
+      sub.clear();
+      const int cls = classify_box_by_surface(lo, h, cut, &sub, &ref);
+      if (cls < 0) continue;
+      if (cls > 0) {
+        for (int kk = std::max(k, owned_begin_); kk < std::min({k + m, g.nz, owned_end_}); ++kk)
+          for (int jj = j; jj < std::min(j + m, g.ny); ++jj)
+            for (int ii = i; ii < std::min(i + m, g.nx); ++ii)
+              cubes.push_back({uint32_t(g.index(ii, jj, kk)), 0, 0, ActiveCube::kInside});
+        continue;
+      }
+      // Cut: its centre is its reference point, by parity from `ref` (only `cut` can cross the
+      // segment, which stays in the box) or nudged off the surface.
+      const Vec3 centre = lo + Vec3{h / 2, h / 2, h / 2};
+      Reference own{centre, false};
+      if (!domain_.locator->side_from(ref.p, ref.inside, centre, cut, own.inside)) own = reference_near(centre, g.side);
+      if (m > 1) {
+        classify_cut_octants(i, j, k, m, sub, own, cubes, cuts, refs);
+        continue;
+      }
+      if (k < owned_begin_) continue;
+      const uint32_t b = uint32_t(g.index(i, j, k));
+      cubes.push_back({b, 0, 0, 0});
+      for (int32_t t : sub) cuts.push_back({b, t});
+      refs.push_back({b, own});
+    }
+  }
+
   // Base cubes not outside the domain, and for those cut by the boundary the planes that cut
   // them. Blocks of 8^3 cubes are classified first, so a cube is tested only against the few
   // planes that cut its block.
@@ -428,6 +615,13 @@ class Sampler {
       if (cls < 0) continue;
       Reference block_ref{};
       if (!convex && cls == 0) block_ref = reference_near(block_lo + Vec3{bh / 2, bh / 2, bh / 2}, g.side);
+      if (!convex && cls == 0) {
+        // Halves of halves: a cube is tested only against the triangles that meet its octant.
+        classify_cut_octants(i0, j0, k0, B, block_cut, block_ref, cubes[blk], cuts[blk], refs[blk]);
+        std::sort(cubes[blk].begin(), cubes[blk].end(),
+                  [](const ActiveCube& a, const ActiveCube& b) { return a.base < b.base; });
+        continue;
+      }
       for (int k = std::max(k0, owned_begin_); k < std::min({k0 + B, g.nz, owned_end_}); ++k)
         for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
           for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
@@ -731,8 +925,12 @@ class Sampler {
           if (covered(near, ff, corners, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
-            int cls = classify_sub_box(clo, h, c.base);
+            int32_t plane;
+            int cls = classify_sub_box(clo, h, c.base, plane);
             if (cls < 0) continue;
+            if (cls == 0 && plane >= 0 &&
+                covered_below_plane(near, corners, int(dx), int(dy), int(dz), domain_.planes[plane]))
+              continue;
             inside = cls > 0 ? ActiveCube::kInside : 0;
           }
           kept[ch].push_back({c.base, 2 * c.sx + dx, 2 * c.sy + dy, (2 * c.sz() + dz) | inside});
