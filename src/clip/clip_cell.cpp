@@ -244,8 +244,8 @@ struct CellClipper::Scratch {
   UnionFind parts{0};
 };
 
-CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens)
-    : domain_(domain), gens_(gens), s_(std::make_unique<Scratch>()) {}
+CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens, const TriangleGrid& triangles)
+    : domain_(domain), gens_(gens), triangles_(triangles), s_(std::make_unique<Scratch>()) {}
 CellClipper::~CellClipper() = default;
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
@@ -259,7 +259,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   Scratch& w = *s_;
   std::vector<int32_t>& tris = w.tris;
   tris.clear();
-  locator.triangles_near(x + lo, x + hi, tris);
+  triangles_.triangles_near(x + lo, x + hi, tris);
   if (tris.empty()) return Result::Inside;
 
   // The planes of V's faces, computed exactly as the cell builder cut them.

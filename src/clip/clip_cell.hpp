@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/triangle_grid.hpp"
 #include "froth/domain.hpp"
 #include "voronoi/convex_cell.hpp"
 
@@ -52,7 +53,7 @@ class ClippedCell {
 class CellClipper {
  public:
   // One clipper per thread: it keeps its scratch from cell to cell.
-  CellClipper(const Domain& domain, const SurfaceGenerators& gens);
+  CellClipper(const Domain& domain, const SurfaceGenerators& gens, const TriangleGrid& triangles);
   ~CellClipper();
 
   // TooCoarse: the domain has features smaller than r here (a thin wall, a narrow gap); the
@@ -70,6 +71,7 @@ class CellClipper {
   struct Scratch;
   const Domain& domain_;
   const SurfaceGenerators& gens_;
+  const TriangleGrid& triangles_;
   std::unique_ptr<Scratch> s_;
 };
 

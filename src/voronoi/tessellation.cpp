@@ -115,12 +115,15 @@ class CellBuilder {
  public:
   CellBuilder(const Domain& domain, const Sample& sample, double r)
       : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {
-    if (!domain.convex) generators_.emplace(domain);
+    if (!domain.convex) {
+      generators_.emplace(domain);
+      triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
+    }
   }
 
   // A clipper for one thread, or none for a convex domain.
   std::unique_ptr<CellClipper> make_clipper() const {
-    return domain_.convex ? nullptr : std::make_unique<CellClipper>(domain_, *generators_);
+    return domain_.convex ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
   }
 
   // What went wrong with a cell: r too large for the domain's features here is the user's to
@@ -204,6 +207,7 @@ class CellBuilder {
   const Sample& sample_;
   double r_, eps_;
   std::optional<SurfaceGenerators> generators_;
+  std::optional<TriangleGrid> triangles_;
 };
 
 template <class Cell>

@@ -9,10 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include <fmt/format.h>
 
+#include "common/surface_locator.hpp"
 #include "common/test_support.hpp"
+#include "common/triangle_grid.hpp"
 #include "froth/quality.hpp"
 
 namespace froth {
@@ -229,6 +232,32 @@ TEST(NonConvexDeterminism, ThreadCountDoesNotMatter) {
                            b.face_vertices.end()))
         << name;
     EXPECT_TRUE(std::equal(a.kinds.begin(), a.kinds.end(), b.kinds.begin(), b.kinds.end())) << name;
+  }
+}
+
+// The clipper's bucket grid finds exactly the triangles the AABB tree finds, for boxes of a
+// cell's size, smaller and larger than its buckets, and reaching out of the surface's box.
+TEST(TriangleGrid, AnswersLikeTheAabbTree) {
+  std::mt19937_64 rng(7);
+  for (const char* name : {"round.stl", "torus.STL", "I-beam"}) {
+    const Domain d = shape(name);
+    const double r = d.bounds.diagonal() / 40;
+    const TriangleGrid grid(d.surface, *d.locator, 2.1 * r);
+    std::uniform_real_distribution<double> u(0, 1);
+    size_t nonempty = 0;
+    std::vector<int32_t> a, b;
+    for (int q = 0; q < 3000; ++q) {
+      const double size = r * (q % 3 == 0 ? 0.3 : q % 3 == 1 ? 2.1 : 7.0);
+      Vec3 lo;
+      for (int k = 0; k < 3; ++k)
+        lo[k] = d.bounds.lo[k] - size + u(rng) * (d.bounds.hi[k] - d.bounds.lo[k] + size);
+      const Vec3 hi = lo + Vec3{size, size * u(rng), size};
+      grid.triangles_near(lo, hi, a);
+      d.locator->triangles_near(lo, hi, b);
+      ASSERT_EQ(a, b) << name << " box " << q;
+      nonempty += !a.empty();
+    }
+    EXPECT_GT(nonempty, 300u) << name;  // the boxes do meet the surface
   }
 }
 
