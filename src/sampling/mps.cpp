@@ -453,28 +453,29 @@ class Sampler {
     return inside ? 1 : 0;
   }
 
+  // A boundary base cube's place in the boundary lists (a bisection: callers look it up once
+  // per cube, not per dart or per child).
   size_t boundary_slot(uint32_t b) const {
     return size_t(std::lower_bound(boundary_base_.begin(), boundary_base_.end(), b) - boundary_base_.begin());
   }
 
-  // What cuts base cube b (which must be a boundary cube): facet planes of a convex domain,
-  // triangles of any other.
-  std::span<const int32_t> cutting_planes(uint32_t b) const {
-    const size_t k = boundary_slot(b);
-    return {boundary_planes_.data() + boundary_begin_[k], boundary_begin_[k + 1] - boundary_begin_[k]};
+  // What cuts the boundary cube in `slot`: facet planes of a convex domain, triangles of any
+  // other.
+  std::span<const int32_t> cutting_planes(size_t slot) const {
+    return {boundary_planes_.data() + boundary_begin_[slot], boundary_begin_[slot + 1] - boundary_begin_[slot]};
   }
 
-  bool inside_domain(Vec3 p, uint32_t base) const {
+  // Is p, a point of the boundary cube in `slot`, inside the domain?
+  bool inside_domain(Vec3 p, size_t slot) const {
     if (!domain_.convex) {
       // Parity of crossings from the cube's reference point; only the cube's triangles can
       // cross the segment, which stays in the cube.
-      const size_t k = boundary_slot(base);
+      const Reference& ref = boundary_ref_[slot];
       bool in;
-      if (domain_.locator->side_from(boundary_ref_[k].p, boundary_ref_[k].inside, p, cutting_planes(base), in))
-        return in;
+      if (domain_.locator->side_from(ref.p, ref.inside, p, cutting_planes(slot), in)) return in;
       return domain_.locator->inside(p);  // a degenerate crossing: ask the whole surface
     }
-    for (int32_t id : cutting_planes(base))
+    for (int32_t id : cutting_planes(slot))
       if (domain_.planes[id].signed_distance(p) > 0) return false;
     return true;
   }
@@ -483,11 +484,11 @@ class Sampler {
   // receives a facet plane whose inner side holds the domain's part of the sub-cube, or -1: for
   // a convex domain any plane that cuts it; otherwise the plane of the triangles that meet it, if
   // they all lie in one (their union then spans the sub-cube, as the surface is closed).
-  int classify_sub_box(Vec3 lo, double h, uint32_t base, int32_t& plane) const {
+  int classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const {
     plane = -1;
     if (domain_.convex) {
       int cls = 1;
-      for (int32_t id : cutting_planes(base)) {
+      for (int32_t id : cutting_planes(slot)) {
         const Plane& pl = domain_.planes[id];
         double dmin = pl.signed_distance(lo), dmax = dmin;
         for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
@@ -498,7 +499,7 @@ class Sampler {
     }
     const Vec3 hi = lo + Vec3{h, h, h};
     int32_t first = -1;
-    for (int32_t t : cutting_planes(base)) {
+    for (int32_t t : cutting_planes(slot)) {
       if (first >= 0 && domain_.triangle_plane[t] == domain_.triangle_plane[first]) continue;
       if (!domain_.locator->triangle_meets_box(t, lo, hi)) continue;
       if (first >= 0) return 0;  // triangles of two planes
@@ -508,7 +509,7 @@ class Sampler {
       plane = domain_.triangle_plane[first];
       return 0;
     }
-    return inside_domain(lo + Vec3{h / 2, h / 2, h / 2}, base) ? 1 : -1;
+    return inside_domain(lo + Vec3{h / 2, h / 2, h / 2}, slot) ? 1 : -1;
   }
 
   // Non-convex domains: -1, 0 or 1 as classify_box, by which of `candidates` meet the box
@@ -683,10 +684,11 @@ class Sampler {
         if (n == 0) continue;
         darts += n;
         Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
+        const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
         for (int k = 0; k < n; ++k) {
           auto w = rng_.words(uint64_t(c.base), c1, tag | uint64_t(k + 1), 0);
           Vec3 p = lo + Vec3{CounterRng::unit(w[0]) * h, CounterRng::unit(w[1]) * h, CounterRng::unit(w[2]) * h};
-          if (!c.inside() && !inside_domain(p, c.base)) continue;
+          if (!c.inside() && !inside_domain(p, slot)) continue;
           if (seed_within_r(p, c.base)) continue;
           found[ch].push_back({w[3], c.base, p});
         }
@@ -919,6 +921,7 @@ class Sampler {
           if (norm2(q - center) < reach * reach) near.push_back(q);
         ff.build(lo, h, near);
         corners.reset(lo, h);
+        const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
         for (uint32_t child = 0; child < 8; ++child) {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
@@ -926,7 +929,7 @@ class Sampler {
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
             int32_t plane;
-            int cls = classify_sub_box(clo, h, c.base, plane);
+            int cls = classify_sub_box(clo, h, slot, plane);
             if (cls < 0) continue;
             if (cls == 0 && plane >= 0 &&
                 covered_below_plane(near, corners, int(dx), int(dy), int(dz), domain_.planes[plane]))
