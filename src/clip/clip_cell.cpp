@@ -75,34 +75,40 @@ struct Loops {
   void clear() { ids.clear(), begin.assign(1, 0); }
 };
 
-// Chains directed edges into closed loops (each starting at the first of its edges in `edges`);
-// false if a point has two outgoing edges or a chain does not close. `next` and `used` are
-// scratch.
-bool chain_loops(const std::vector<Edge>& edges, Loops& loops, std::vector<Edge>& next, std::vector<uint8_t>& used) {
+// Chains directed edges between points 0 .. points-1 into closed loops (each starting at the
+// first of its edges in `edges`); false if a point has two outgoing edges or a chain does not
+// close. `leaving` (the edge leaving each point, -1 if none: all -1 between calls) and `used`
+// are scratch.
+bool chain_loops(const std::vector<Edge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
+                 std::vector<uint8_t>& used) {
   loops.clear();
-  next.assign(edges.begin(), edges.end());  // sorted by start point: the edge leaving p is found by bisection
-  std::sort(next.begin(), next.end());
-  for (size_t k = 1; k < next.size(); ++k)
-    if (next[k].from == next[k - 1].from) return false;
-  auto leaving = [&](int32_t p) {
-    auto it = std::lower_bound(next.begin(), next.end(), Edge{p, INT32_MIN});
-    return it != next.end() && it->from == p ? size_t(it - next.begin()) : next.size();
-  };
-  used.assign(next.size(), 0);  // per point, by its edge's index in `next`
-  for (const Edge& e : edges) {
-    size_t i = leaving(e.from);
+  if (leaving.size() < points) leaving.resize(points, -1);
+  bool ok = true;
+  size_t set = 0;
+  for (; set < edges.size(); ++set) {
+    if (leaving[edges[set].from] >= 0) {
+      ok = false;
+      break;
+    }
+    leaving[edges[set].from] = int32_t(set);
+  }
+  used.assign(edges.size(), 0);
+  for (size_t k = 0; ok && k < edges.size(); ++k) {
+    const int32_t start = edges[k].from;
+    int32_t i = leaving[start];
     if (used[i]) continue;
-    int32_t p = e.from;
-    while (i < next.size() && !used[i]) {
+    int32_t p = start;
+    while (i >= 0 && !used[i]) {
       used[i] = 1;
       loops.ids.push_back(p);
-      p = next[i].to;
-      i = leaving(p);
+      p = edges[i].to;
+      i = leaving[p];
     }
-    if (i == next.size() || p != e.from) return false;
-    loops.begin.push_back(uint32_t(loops.ids.size()));
+    if (i < 0 || p != start) ok = false;
+    else loops.begin.push_back(uint32_t(loops.ids.size()));
   }
-  return true;
+  for (size_t k = 0; k < set; ++k) leaving[edges[k].from] = -1;
+  return ok;
 }
 
 using Point2 = std::pair<double, double>;
@@ -239,7 +245,9 @@ struct CellClipper::Scratch {
   std::vector<int8_t> status;
   std::vector<int32_t> face_gen, along, used_map;
   Loops faces, loops;
-  std::vector<Edge> segs, plane_edges, kept, all, chain_next;
+  std::vector<Edge> segs, plane_edges, kept;
+  std::vector<uint64_t> all;  // directed edges as (from, to) keys
+  std::vector<int32_t> chain_leaving;
   std::vector<uint8_t> chain_used;
   UnionFind parts{0};
 };
@@ -502,7 +510,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (segs.empty()) continue;
     if (ConvexCell::is_cube_generator(g))
       return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
-    if (!chain_loops(segs, loops, w.chain_next, w.chain_used))
+    if (!chain_loops(segs, pts.size(), loops, w.chain_leaving, w.chain_used))
       return fail_with(fmt::format("the face on generator {} does not close", g));
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
@@ -528,7 +536,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (const Edge& e : plane_edges)
       if (!std::binary_search(plane_edges.begin(), plane_edges.end(), Edge{e.to, e.from})) kept.push_back(e);
     if (kept.empty()) continue;
-    if (!chain_loops(kept, loops, w.chain_next, w.chain_used))
+    if (!chain_loops(kept, pts.size(), loops, w.chain_leaving, w.chain_used))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
     if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
       return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
@@ -538,20 +546,22 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   }
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.
-  std::vector<Edge>& all = w.all;
+  std::vector<uint64_t>& all = w.all;
+  auto key = [](int32_t from, int32_t to) { return uint64_t(uint32_t(from)) << 32 | uint32_t(to); };
   all.clear();
   for (size_t f = 0; f < faces.size(); ++f) {
     const auto face = faces[f];
-    for (size_t k = 0; k < face.size(); ++k) all.push_back({face[k], face[(k + 1) % face.size()]});
+    for (size_t k = 0; k < face.size(); ++k) all.push_back(key(face[k], face[(k + 1) % face.size()]));
   }
   std::sort(all.begin(), all.end());
   for (size_t k = 0; k < all.size(); ++k)
-    if ((k > 0 && !(all[k - 1] < all[k])) || !std::binary_search(all.begin(), all.end(), Edge{all[k].to, all[k].from}))
+    if ((k > 0 && all[k - 1] == all[k]) ||
+        !std::binary_search(all.begin(), all.end(), key(int32_t(all[k] & 0xFFFFFFFFu), int32_t(all[k] >> 32))))
       return fail_with("the clipped cell is not closed");
   UnionFind& parts = w.parts;
   parts.parent.resize(pts.size());
   std::iota(parts.parent.begin(), parts.parent.end(), 0);
-  for (const Edge& e : all) parts.unite(e.from, e.to);
+  for (const uint64_t e : all) parts.unite(int32_t(e >> 32), int32_t(e & 0xFFFFFFFFu));
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(pts.size(), -1);
   out.points_.clear(), out.names_.clear(), out.face_gen_.assign(face_gen.begin(), face_gen.end());
