@@ -86,8 +86,11 @@ bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
     return false;
   const auto& P = impl_->points;
   auto [a, b, c] = triangles_[t];
-  // The box wholly on one side of the triangle's plane, by a margin far above the rounding of
-  // these products (about 1e-15 of their scale), misses it; otherwise ask the exact predicate.
+  // Separating axes (the box's three, checked above; the triangle's normal; the nine products of
+  // a box edge and a triangle edge), in floating point with a margin far above the rounding of
+  // these products (about 1e-15 of their scale): an axis that separates by more than the margin
+  // proves a miss, overlaps by more than it on every axis prove a hit, and anything closer is
+  // left to the exact predicate.
   {
     const Vec3 p{P[a].x(), P[a].y(), P[a].z()};
     const Vec3 u = Vec3{P[b].x(), P[b].y(), P[b].z()} - p, v = Vec3{P[c].x(), P[c].y(), P[c].z()} - p;
@@ -102,6 +105,28 @@ bool SurfaceLocator::triangle_meets_box(int32_t t, Vec3 lo, Vec3 hi) const {
     const double reach = std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z), std::abs(h.x), std::abs(h.y), std::abs(h.z)});
     const double margin = 1e-10 * scale * scale * reach;
     if (dmin > margin || dmax < -margin) return false;
+    bool clear = dmin < -margin && dmax > margin;
+    // Box edge e_k x triangle edge f: the triangle projects to [min, max] of its corners (relative
+    // to p: 0, u, v), the box to [min, max] of its corners' projections.
+    const double edge_margin = 1e-10 * scale * std::max(scale, reach);
+    const Vec3 edges[3] = {u, v - u, v};
+    for (const Vec3& f : edges)
+      for (int k = 0; k < 3; ++k) {
+        Vec3 axis{};  // e_k x f
+        axis[(k + 1) % 3] = -f[(k + 2) % 3];
+        axis[(k + 2) % 3] = f[(k + 1) % 3];
+        if (axis.x == 0 && axis.y == 0 && axis.z == 0) continue;  // f along the box edge: no axis
+        const double tu = dot(axis, u), tv = dot(axis, v);
+        const double tmin = std::min({0.0, tu, tv}), tmax = std::max({0.0, tu, tv});
+        double bmin = 0, bmax = 0;
+        for (int q = 0; q < 3; ++q) {
+          bmin += axis[q] * (axis[q] > 0 ? l[q] : h[q]);
+          bmax += axis[q] * (axis[q] > 0 ? h[q] : l[q]);
+        }
+        if (tmin > bmax + edge_margin || tmax < bmin - edge_margin) return false;
+        clear &= tmin < bmax - edge_margin && tmax > bmin + edge_margin;
+      }
+    if (clear) return true;
   }
   return CGAL::do_intersect(Kernel::Triangle_3(P[a], P[b], P[c]),
                             Kernel::Iso_cuboid_3(to_cgal(lo), to_cgal(hi)));

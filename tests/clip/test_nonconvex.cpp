@@ -4,6 +4,8 @@
 // (Lemma 1), closed cells and matched faces, volumes summing to the enclosed volume and border
 // faces to the surface area, star-shaped cells, reflex edges inside edge and vertex cells, and
 // the Lemma 2 / 6 bounds for interior cells.
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/intersections.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -258,6 +260,41 @@ TEST(TriangleGrid, AnswersLikeTheAabbTree) {
       nonempty += !a.empty();
     }
     EXPECT_GT(nonempty, 300u) << name;  // the boxes do meet the surface
+  }
+}
+
+// The triangle-box test's floating-point shortcuts (separating axes with a margin) answer as the
+// exact predicate, on long axis-parallel strips (round.stl), a curved surface and the I-beam, for
+// boxes around points of the triangles from far larger than them to tiny, some touching exactly.
+TEST(SurfaceLocator, TriangleMeetsBoxAgreesWithTheExactPredicate) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const char* name : {"round.stl", "torus.STL", "I-beam"}) {
+    const Domain d = shape(name);
+    const auto& V = d.surface.vertices;
+    const auto& T = d.surface.triangles;
+    size_t hits = 0, misses = 0;
+    for (int q = 0; q < 20000; ++q) {
+      const auto& tri = T[rng() % T.size()];
+      // A point of the triangle, pushed off it a little, and a box around it.
+      double a = u(rng), b = u(rng);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      Vec3 c = V[tri[0]] + a * (V[tri[1]] - V[tri[0]]) + b * (V[tri[2]] - V[tri[0]]);
+      const double size = d.bounds.diagonal() * std::pow(10.0, -1 - 6 * u(rng));
+      for (int k = 0; k < 3; ++k) c[k] += size * (u(rng) - 0.5);
+      Vec3 lo = c - Vec3{size * u(rng), size * u(rng), size * u(rng)}, hi = c + Vec3{size * u(rng), size, size * u(rng)};
+      if (q % 5 == 0) (V[tri[q % 3]].x < hi.x ? lo.x : hi.x) = V[tri[q % 3]].x;  // a face through a corner
+      const bool exact = CGAL::do_intersect(
+          K::Triangle_3(K::Point_3(V[tri[0]].x, V[tri[0]].y, V[tri[0]].z), K::Point_3(V[tri[1]].x, V[tri[1]].y, V[tri[1]].z),
+                        K::Point_3(V[tri[2]].x, V[tri[2]].y, V[tri[2]].z)),
+          K::Iso_cuboid_3(K::Point_3(lo.x, lo.y, lo.z), K::Point_3(hi.x, hi.y, hi.z)));
+      const int32_t t = int32_t(&tri - T.data());
+      ASSERT_EQ(d.locator->triangle_meets_box(t, lo, hi), exact) << name << " triangle " << t << " query " << q;
+      (exact ? hits : misses) += 1;
+    }
+    EXPECT_GT(hits, 2000u) << name;
+    EXPECT_GT(misses, 2000u) << name;
   }
 }
 
