@@ -253,6 +253,61 @@ class Sampler {
   static constexpr int kCubeEdges[12][2] = {{0, 1}, {2, 3}, {4, 5}, {6, 7}, {0, 2}, {1, 3},
                                             {4, 6}, {5, 7}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
 
+  // The last steps of the exact coverage tests below, on a convex piece P of a cube whose
+  // vertices are each within r of their nearest seed in `near`, these being the two or three
+  // `site`s: P is covered by their balls iff every crossing of one of P's edges with the bisector
+  // of two sites, not nearer the third, is within r, and, for three sites, so are the ends of the
+  // equidistant line's part in P. P is the box [lo, hi], cut by `cut` if given.
+  bool sites_cover(const std::vector<Vec3>& near, const int* site, int sites, const Vec3 (*edges)[2], int count,
+                   Vec3 lo, Vec3 hi, const Plane* cut) const {
+    const double limit = r2_ * (1 - 1e-12);
+    for (int i = 0; i < sites; ++i)
+      for (int j = i + 1; j < sites; ++j) {
+        const Vec3 qa = near[site[i]], qb = near[site[j]];
+        const Vec3 n = qb - qa;
+        const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
+        for (int e = 0; e < count; ++e) {
+          const double su = dot(n, edges[e][0]) - mid, sv = dot(n, edges[e][1]) - mid;
+          if ((su < 0) == (sv < 0)) continue;
+          const Vec3 x = edges[e][0] + (su / (su - sv)) * (edges[e][1] - edges[e][0]);
+          const double d2 = norm2(x - qa);
+          if (sites == 3 && norm2(x - near[site[3 - i - j]]) < d2) continue;  // inside the third's piece
+          if (d2 >= limit) return false;
+        }
+      }
+    if (sites < 3) return true;
+    // The line equidistant from the three, through their circumcentre normal to their plane, as
+    // centre + t * axis: its part in P is an interval of t, whose ends are its crossings with P's
+    // faces.
+    const Vec3 a = near[site[0]], b = near[site[1]] - a, c = near[site[2]] - a;
+    const Vec3 axis = cross(b, c);
+    const double w = norm2(axis);
+    if (!(w > 1e-24 * r2_ * r2_)) return false;  // (nearly) collinear: give up
+    const Vec3 centre = a + (1 / (2 * w)) * cross(norm2(b) * c - norm2(c) * b, axis);
+    double t0 = -INFINITY, t1 = INFINITY;
+    auto keep_below = [&](Vec3 n, double offset) {  // t with dot(n, centre + t axis) <= offset
+      const double s0 = dot(n, centre) - offset, ds = dot(n, axis);
+      if (ds == 0) {
+        if (s0 > 0) t0 = INFINITY;
+      } else if (ds > 0) {
+        t1 = std::min(t1, -s0 / ds);
+      } else {
+        t0 = std::max(t0, -s0 / ds);
+      }
+    };
+    for (int ax = 0; ax < 3; ++ax) {
+      Vec3 e{};
+      e[ax] = 1;
+      keep_below(e, hi[ax]);
+      keep_below(-1.0 * e, -lo[ax]);
+    }
+    if (cut) keep_below(cut->normal, cut->offset);
+    if (t0 <= t1)
+      for (double t : {t0, t1})
+        if (norm2(centre + t * axis - a) >= limit) return false;
+    return true;
+  }
+
   // Is child (dx, dy, dz) of the parent described by `ff` and `cc` inside the union of the
   // r-balls around `near`? Exact for one ball (the farthest corner is within r). Otherwise, when
   // the corners' nearest seeds are two or three seeds S, exact for the balls of S: the cube is
@@ -277,39 +332,9 @@ class Sampler {
       site[sites++] = n;
     }
     if (sites < 2) return false;
-    const double limit = r2_ * (1 - 1e-12);
-    for (int i = 0; i < sites; ++i)
-      for (int j = i + 1; j < sites; ++j) {
-        const Vec3 qa = near[site[i]], qb = near[site[j]];
-        const Vec3 n = qb - qa;
-        const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
-        for (const auto& e : kCubeEdges) {
-          const double su = dot(n, corner[e[0]]) - mid, sv = dot(n, corner[e[1]]) - mid;
-          if ((su < 0) == (sv < 0)) continue;
-          const Vec3 x = corner[e[0]] + (su / (su - sv)) * (corner[e[1]] - corner[e[0]]);
-          const double d2 = norm2(x - qa);
-          if (sites == 3 && norm2(x - near[site[3 - i - j]]) < d2) continue;  // inside the third's piece
-          if (d2 >= limit) return false;
-        }
-      }
-    if (sites == 3) {
-      // The line equidistant from the three: through their circumcentre, normal to their plane.
-      const Vec3 a = near[site[0]], b = near[site[1]] - a, c = near[site[2]] - a;
-      const Vec3 axis = cross(b, c);
-      const double w = norm2(axis);
-      if (!(w > 1e-24 * r2_ * r2_)) return false;  // (nearly) collinear: give up
-      const Vec3 centre = a + (1 / (2 * w)) * cross(norm2(b) * c - norm2(c) * b, axis);
-      const Vec3 lo = corner[0], hi = corner[7];
-      for (int ax = 0; ax < 3; ++ax) {
-        if (axis[ax] == 0) continue;
-        for (double plane : {lo[ax], hi[ax]}) {
-          const Vec3 x = centre + ((plane - centre[ax]) / axis[ax]) * axis;
-          const int u = (ax + 1) % 3, v = (ax + 2) % 3;
-          if (x[u] < lo[u] || x[u] > hi[u] || x[v] < lo[v] || x[v] > hi[v]) continue;
-          if (norm2(x - a) >= limit) return false;
-        }
-      }
-    }
+    Vec3 edges[12][2];
+    for (int e = 0; e < 12; ++e) edges[e][0] = corner[kCubeEdges[e][0]], edges[e][1] = corner[kCubeEdges[e][1]];
+    if (!sites_cover(near, site, sites, edges, 12, corner[0], corner[7], nullptr)) return false;
     // Corners are classified by nearest seed but the bisector tests by sign; they agree up to
     // round-off, and a tie point is within r of both seeds by the checks above.
     return true;
@@ -328,13 +353,14 @@ class Sampler {
     const Vec3 lo = cc.point(((dz * 3) + dy) * 3 + dx);
     const double h = cc.h;
     const double margin = 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
+    const Plane below{pl.normal, pl.offset + margin};  // P's cutting plane
     Vec3 corner[8];
     double sd[8];
     int lattice[8];  // the corners' points in the parent's lattice
     for (int k = 0; k < 8; ++k) {
       lattice[k] = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
       corner[k] = cc.point(lattice[k]);
-      sd[k] = pl.signed_distance(corner[k]) - margin;
+      sd[k] = below.signed_distance(corner[k]);
     }
     Vec3 vert[20], seg[24][2];
     int nv = 0, ns = 0, cross_at[12], site[3], sites = 0;
@@ -385,53 +411,7 @@ class Sampler {
       }
       if (best > r2_ || !add_site(arg)) return false;
     }
-    if (sites < 2) return true;
-    const double limit = r2_ * (1 - 1e-12);
-    for (int i = 0; i < sites; ++i)
-      for (int j = i + 1; j < sites; ++j) {
-        const Vec3 qa = near[site[i]], qb = near[site[j]];
-        const Vec3 n = qb - qa;
-        const double mid = (norm2(qb) - norm2(qa)) / 2;  // bisector: dot(n, p) = mid
-        for (int e = 0; e < ns; ++e) {
-          const double su = dot(n, seg[e][0]) - mid, sv = dot(n, seg[e][1]) - mid;
-          if ((su < 0) == (sv < 0)) continue;
-          const Vec3 x = seg[e][0] + (su / (su - sv)) * (seg[e][1] - seg[e][0]);
-          const double d2 = norm2(x - qa);
-          if (sites == 3 && norm2(x - near[site[3 - i - j]]) < d2) continue;  // inside the third's piece
-          if (d2 >= limit) return false;
-        }
-      }
-    if (sites == 3) {
-      // The equidistant line's part in P, as an interval of t along centre + t * axis; its ends
-      // are its crossings with P's faces.
-      const Vec3 a = near[site[0]], b = near[site[1]] - a, c = near[site[2]] - a;
-      const Vec3 axis = cross(b, c);
-      const double w = norm2(axis);
-      if (!(w > 1e-24 * r2_ * r2_)) return false;  // (nearly) collinear: give up
-      const Vec3 centre = a + (1 / (2 * w)) * cross(norm2(b) * c - norm2(c) * b, axis);
-      double t0 = -INFINITY, t1 = INFINITY;
-      auto keep_below = [&](Vec3 n, double offset) {  // t with dot(n, centre + t axis) <= offset
-        const double s0 = dot(n, centre) - offset, ds = dot(n, axis);
-        if (ds == 0) {
-          if (s0 > 0) t0 = INFINITY;
-        } else if (ds > 0) {
-          t1 = std::min(t1, -s0 / ds);
-        } else {
-          t0 = std::max(t0, -s0 / ds);
-        }
-      };
-      for (int ax = 0; ax < 3; ++ax) {
-        Vec3 e{};
-        e[ax] = 1;
-        keep_below(e, lo[ax] + h);
-        keep_below(-1.0 * e, -lo[ax]);
-      }
-      keep_below(pl.normal, pl.offset + margin);
-      if (t0 <= t1)
-        for (double t : {t0, t1})
-          if (norm2(centre + t * axis - a) >= limit) return false;
-    }
-    return true;
+    return sites < 2 || sites_cover(near, site, sites, seg, ns, corner[0], corner[7], &below);
   }
 
   // -1 outside, 0 cut by the boundary, 1 inside, with respect to the given planes; `cut`
