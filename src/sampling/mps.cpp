@@ -334,10 +334,9 @@ class Sampler {
     if (sites < 2) return false;
     Vec3 edges[12][2];
     for (int e = 0; e < 12; ++e) edges[e][0] = corner[kCubeEdges[e][0]], edges[e][1] = corner[kCubeEdges[e][1]];
-    if (!sites_cover(near, site, sites, edges, 12, corner[0], corner[7], nullptr)) return false;
     // Corners are classified by nearest seed but the bisector tests by sign; they agree up to
     // round-off, and a tie point is within r of both seeds by the checks above.
-    return true;
+    return sites_cover(near, site, sites, edges, 12, corner[0], corner[7], nullptr);
   }
 
   // Is the part of child (dx, dy, dz) on the inner side of `pl` inside the union of the r-balls
@@ -460,10 +459,12 @@ class Sampler {
     return true;
   }
 
-  // classify_box for a sub-cube of boundary base cube `base`. When it is cut (0), `plane`
+  // classify_box for a sub-cube of the boundary cube in `slot`. When it is cut (0), `plane`
   // receives a facet plane whose inner side holds the domain's part of the sub-cube, or -1: for
   // a convex domain any plane that cuts it; otherwise the plane of the triangles that meet it, if
-  // they all lie in one (their union then spans the sub-cube, as the surface is closed).
+  // they all lie in one. (Then they span the plane's section of the sub-cube: the surface is
+  // closed and does not cross itself, so an edge of theirs inside the sub-cube has its other
+  // triangle there too, and in the same plane.)
   int classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const {
     plane = -1;
     if (domain_.convex) {
@@ -527,8 +528,8 @@ class Sampler {
   // The base cubes of the box of n^3 cubes from (i0, j0, k0) (n a power of two), which `cut`
   // meets and of which `ref` is a point of known side, for a non-convex domain: each octant is
   // tested against the triangles that meet the box, then either taken whole (inside), dropped
-  // (outside) or split again, down to single cubes, which get their triangles and reference
-  // point (their centre) as in initial_cubes.
+  // (outside) or split again, down to single cubes, which get their triangles and a reference
+  // point for inside tests (their centre).
   void classify_cut_octants(int i0, int j0, int k0, int n, const std::vector<int32_t>& cut, const Reference& ref,
                             std::vector<ActiveCube>& cubes, std::vector<std::pair<uint32_t, int32_t>>& cuts,
                             std::vector<std::pair<uint32_t, Reference>>& refs) const {
@@ -567,9 +568,10 @@ class Sampler {
     }
   }
 
-  // Base cubes not outside the domain, and for those cut by the boundary the planes that cut
-  // them. Blocks of 8^3 cubes are classified first, so a cube is tested only against the few
-  // planes that cut its block.
+  // Base cubes not outside the domain, and for those cut by the boundary the planes (convex
+  // domain) or triangles that cut them. Blocks of 8^3 cubes are classified first (and a cut
+  // block's octants in turn, for triangles), so a cube is tested only against the few that cut
+  // its block.
   std::vector<ActiveCube> initial_cubes() {
     const auto& g = s_.grid;
     constexpr int B = 8;
@@ -594,36 +596,25 @@ class Sampler {
       int cls = convex ? classify_box(block_lo, bh, all, &block_cut)
                        : classify_box_by_surface(block_lo, bh, near, &block_cut, nullptr);
       if (cls < 0) continue;
-      Reference block_ref{};
-      if (!convex && cls == 0) block_ref = reference_near(block_lo + Vec3{bh / 2, bh / 2, bh / 2}, g.side);
       if (!convex && cls == 0) {
-        // Halves of halves: a cube is tested only against the triangles that meet its octant.
+        // Halves of halves, from a reference point near the block's centre: a cube is tested
+        // only against the triangles that meet its octant.
+        const Reference block_ref = reference_near(block_lo + Vec3{bh / 2, bh / 2, bh / 2}, g.side);
         classify_cut_octants(i0, j0, k0, B, block_cut, block_ref, cubes[blk], cuts[blk], refs[blk]);
         std::sort(cubes[blk].begin(), cubes[blk].end(),
                   [](const ActiveCube& a, const ActiveCube& b) { return a.base < b.base; });
         continue;
       }
+      // Inside, or cut by planes of a convex domain.
       for (int k = std::max(k0, owned_begin_); k < std::min({k0 + B, g.nz, owned_end_}); ++k)
         for (int j = j0; j < std::min(j0 + B, g.ny); ++j)
           for (int i = i0; i < std::min(i0 + B, g.nx); ++i) {
             const uint32_t b = uint32_t(g.index(i, j, k));
             cube_cut.clear();
-            int c = cls > 0 ? 1
-                    : convex ? classify_box(base_origin(b), g.side, block_cut, &cube_cut)
-                             : classify_box_by_surface(base_origin(b), g.side, block_cut, &cube_cut, &block_ref);
+            const int c = cls > 0 ? 1 : classify_box(base_origin(b), g.side, block_cut, &cube_cut);
             if (c < 0) continue;
             cubes[blk].push_back({b, 0, 0, c > 0 ? ActiveCube::kInside : 0});
             for (int32_t id : cube_cut) cuts[blk].push_back({b, id});
-            if (!convex && c == 0) {
-              // The cube's reference point for inside tests: its centre, by parity from the
-              // block's (only the block's triangles can cross the segment), or, if the centre
-              // lies on the surface or the segment grazes it, a point nudged off it.
-              const Vec3 centre = base_origin(b) + Vec3{g.side / 2, g.side / 2, g.side / 2};
-              Reference ref{centre, false};
-              if (!domain_.locator->side_from(block_ref.p, block_ref.inside, centre, block_cut, ref.inside))
-                ref = reference_near(centre, g.side);
-              refs[blk].push_back({b, ref});
-            }
           }
     }
     std::vector<std::pair<uint32_t, int32_t>> pairs = concatenate(cuts);
