@@ -222,7 +222,7 @@ bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host,
 }  // namespace
 
 // Everything clip() builds, kept from cell to cell: a clipped cell would otherwise allocate a
-// few dozen small vectors, about a tenth of its time.
+// few dozen small vectors (the tube's cells stage took a fifth longer).
 struct CellClipper::Scratch {
   std::vector<int32_t> tris;
   std::vector<Plane> plane;
