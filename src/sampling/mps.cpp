@@ -234,17 +234,40 @@ class Sampler {
     double dist2[27];
     void reset(Vec3 parent_lo, double child_side) { lo = parent_lo, h = child_side, known = 0; }
     Vec3 point(int p) const { return lo + Vec3{(p % 3) * h, (p / 3 % 3) * h, (p / 9) * h}; }
+    // The lattice point of corner k of child (dx, dy, dz); corner k is at the child's low corner
+    // plus (k & 1, k >> 1 & 1, k >> 2) sides.
+    static int child_corner(int dx, int dy, int dz, int k) {
+      return ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
+    }
   };
+
+  // The distinct nearest seeds of a piece's vertices (indices into the near seeds), up to three.
+  struct Sites {
+    int id[3];
+    int n = 0;
+    // False if `s` would be a fourth: the exact tests give up there.
+    bool add(int s) {
+      if (std::find(id, id + n, s) != id + n) return true;
+      if (n == 3) return false;
+      id[n++] = s;
+      return true;
+    }
+  };
+  // The index in `near` of the seed nearest x (the first of ties; -1 if none), and its squared
+  // distance.
+  static int nearest_seed(Vec3 x, const std::vector<Vec3>& near, double& dist2) {
+    dist2 = INFINITY;
+    int arg = -1;
+    for (size_t i = 0; i < near.size(); ++i) {
+      const double d = norm2(near[i] - x);
+      if (d < dist2) dist2 = d, arg = int(i);
+    }
+    return arg;
+  }
   int nearest_to_corner(int p, const std::vector<Vec3>& near, CornerCache& cc) const {
     if (!(cc.known >> p & 1)) {
-      const Vec3 x = cc.point(p);
-      double best = INFINITY;
-      int arg = -1;
-      for (size_t i = 0; i < near.size(); ++i) {
-        const double d = norm2(near[i] - x);
-        if (d < best) best = d, arg = int(i);
-      }
-      cc.nearest[p] = arg, cc.dist2[p] = best, cc.known |= 1u << p;
+      cc.nearest[p] = nearest_seed(cc.point(p), near, cc.dist2[p]);
+      cc.known |= 1u << p;
     }
     return cc.nearest[p];
   }
@@ -255,11 +278,13 @@ class Sampler {
 
   // The last steps of the exact coverage tests below, on a convex piece P of a cube whose
   // vertices are each within r of their nearest seed in `near`, these being the two or three
-  // `site`s: P is covered by their balls iff every crossing of one of P's edges with the bisector
+  // `s`: P is covered by their balls iff every crossing of one of P's edges with the bisector
   // of two sites, not nearer the third, is within r, and, for three sites, so are the ends of the
   // equidistant line's part in P. P is the box [lo, hi], cut by `cut` if given.
-  bool sites_cover(const std::vector<Vec3>& near, const int* site, int sites, const Vec3 (*edges)[2], int count,
-                   Vec3 lo, Vec3 hi, const Plane* cut) const {
+  bool sites_cover(const std::vector<Vec3>& near, const Sites& s, const Vec3 (*edges)[2], int count, Vec3 lo, Vec3 hi,
+                   const Plane* cut) const {
+    const int* site = s.id;
+    const int sites = s.n;
     const double limit = r2_ * (1 - 1e-12);
     for (int i = 0; i < sites; ++i)
       for (int j = i + 1; j < sites; ++j) {
@@ -321,22 +346,20 @@ class Sampler {
     for (const auto& f : ff.far2)
       if (f[dx] + f[2 + dy] + f[4 + dz] <= r2_) return true;
     Vec3 corner[8];
-    int site[3], sites = 0;
+    Sites sites;
     for (int k = 0; k < 8; ++k) {
-      const int p = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
+      const int p = CornerCache::child_corner(dx, dy, dz, k);
       const int n = nearest_to_corner(p, near, cc);
       if (cc.dist2[p] > r2_) return false;  // a corner is uncovered
       corner[k] = cc.point(p);
-      if (std::find(site, site + sites, n) != site + sites) continue;
-      if (sites == 3) return false;  // four or more nearest seeds: give up (keep the cube)
-      site[sites++] = n;
+      if (!sites.add(n)) return false;  // four or more nearest seeds: give up (keep the cube)
     }
-    if (sites < 2) return false;
+    if (sites.n < 2) return false;
     Vec3 edges[12][2];
     for (int e = 0; e < 12; ++e) edges[e][0] = corner[kCubeEdges[e][0]], edges[e][1] = corner[kCubeEdges[e][1]];
     // Corners are classified by nearest seed but the bisector tests by sign; they agree up to
     // round-off, and a tie point is within r of both seeds by the checks above.
-    return sites_cover(near, site, sites, edges, 12, corner[0], corner[7], nullptr);
+    return sites_cover(near, sites, edges, 12, corner[0], corner[7], nullptr);
   }
 
   // Is the part of child (dx, dy, dz) on the inner side of `pl` inside the union of the r-balls
@@ -357,22 +380,17 @@ class Sampler {
     double sd[8];
     int lattice[8];  // the corners' points in the parent's lattice
     for (int k = 0; k < 8; ++k) {
-      lattice[k] = ((dz + (k >> 2)) * 3 + dy + ((k >> 1) & 1)) * 3 + dx + (k & 1);
+      lattice[k] = CornerCache::child_corner(dx, dy, dz, k);
       corner[k] = cc.point(lattice[k]);
       sd[k] = below.signed_distance(corner[k]);
     }
     Vec3 vert[20], seg[24][2];
-    int nv = 0, ns = 0, cross_at[12], site[3], sites = 0;
-    auto add_site = [&](int n) {
-      if (std::find(site, site + sites, n) != site + sites) return true;
-      if (sites == 3) return false;
-      site[sites++] = n;
-      return true;
-    };
+    int nv = 0, ns = 0, cross_at[12];
+    Sites sites;
     for (int k = 0; k < 8; ++k) {
       if (sd[k] > 0) continue;
       const int n = nearest_to_corner(lattice[k], near, cc);
-      if (cc.dist2[lattice[k]] > r2_ || !add_site(n)) return false;
+      if (cc.dist2[lattice[k]] > r2_ || !sites.add(n)) return false;
       vert[nv++] = corner[k];
     }
     const int corners_inside = nv;
@@ -402,21 +420,18 @@ class Sampler {
       }
     // The crossings' nearest seeds (the corners' are cached).
     for (int v = corners_inside; v < nv; ++v) {
-      double best = INFINITY;
-      int arg = -1;
-      for (size_t i = 0; i < near.size(); ++i) {
-        const double d = norm2(near[i] - vert[v]);
-        if (d < best) best = d, arg = int(i);
-      }
-      if (best > r2_ || !add_site(arg)) return false;
+      double d2;
+      const int n = nearest_seed(vert[v], near, d2);
+      if (d2 > r2_ || !sites.add(n)) return false;
     }
-    return sites < 2 || sites_cover(near, site, sites, seg, ns, corner[0], corner[7], &below);
+    return sites.n < 2 || sites_cover(near, sites, seg, ns, corner[0], corner[7], &below);
   }
 
   // -1 outside, 0 cut by the boundary, 1 inside, with respect to the given planes; `cut`
-  // (optional) receives the planes that cut the box.
+  // (optional) receives the planes that cut the box, `first_cut` (optional) the first of them.
   template <class PlaneIds>
-  int classify_box(Vec3 lo, double h, const PlaneIds& ids, std::vector<int32_t>* cut = nullptr) const {
+  int classify_box(Vec3 lo, double h, const PlaneIds& ids, std::vector<int32_t>* cut = nullptr,
+                   int32_t* first_cut = nullptr) const {
     bool inside = true;
     for (int32_t id : ids) {
       const Plane& pl = domain_.planes[id];
@@ -425,6 +440,7 @@ class Sampler {
       for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
       if (dmin > 0) return -1;
       if (dmax > 0) {
+        if (inside && first_cut) *first_cut = id;
         inside = false;
         if (cut) cut->push_back(id);
       }
@@ -468,14 +484,8 @@ class Sampler {
   int classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const {
     plane = -1;
     if (domain_.convex) {
-      int cls = 1;
-      for (int32_t id : cutting_planes(slot)) {
-        const Plane& pl = domain_.planes[id];
-        double dmin = pl.signed_distance(lo), dmax = dmin;
-        for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
-        if (dmin > 0) return -1;
-        if (dmax > 0 && cls > 0) cls = 0, plane = id;
-      }
+      const int cls = classify_box(lo, h, cutting_planes(slot), nullptr, &plane);
+      if (cls != 0) plane = -1;
       return cls;
     }
     const Vec3 hi = lo + Vec3{h, h, h};
