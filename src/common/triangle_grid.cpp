@@ -9,13 +9,14 @@ TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator&
     : locator_(locator) {
   const auto& V = surface.vertices;
   Box all{V.empty() ? Vec3{} : V[0], V.empty() ? Vec3{} : V[0]};
-  boxes_.reserve(surface.triangles.size());
+  std::vector<Box> boxes;  // per triangle
+  boxes.reserve(surface.triangles.size());
   for (const auto& t : surface.triangles) {
     Box b{V[t[0]], V[t[0]]};
     for (int k = 1; k < 3; ++k)
       for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], V[t[k]][a]), b.hi[a] = std::max(b.hi[a], V[t[k]][a]);
     for (int a = 0; a < 3; ++a) all.lo[a] = std::min(all.lo[a], b.lo[a]), all.hi[a] = std::max(all.hi[a], b.hi[a]);
-    boxes_.push_back(b);
+    boxes.push_back(b);
   }
   // At most 256 buckets along an axis: a fine grid over a large, thin or hollow surface would
   // cost more memory than the queries gain.
@@ -32,8 +33,8 @@ TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator&
       ids_.resize(begin_.back());
       fill.assign(begin_.begin(), begin_.end() - 1);
     }
-    for (size_t t = 0; t < boxes_.size(); ++t) {
-      locate(boxes_[t].lo, boxes_[t].hi, first, last);
+    for (size_t t = 0; t < boxes.size(); ++t) {
+      locate(boxes[t].lo, boxes[t].hi, first, last);
       for (int k = first[2]; k <= last[2]; ++k)
         for (int j = first[1]; j <= last[1]; ++j)
           for (int i = first[0]; i <= last[0]; ++i) {
@@ -64,16 +65,11 @@ void TriangleGrid::triangles_near(Vec3 lo, Vec3 hi, std::vector<int32_t>& out) c
     for (int j = first[1]; j <= last[1]; ++j)
       for (int i = first[0]; i <= last[0]; ++i) {
         const size_t b = (size_t(k) * n_[1] + j) * n_[0] + i;
-        for (uint32_t e = begin_[b]; e < begin_[b + 1]; ++e) {
-          const int32_t t = ids_[e];
-          const Box& tb = boxes_[t];
-          if (tb.hi.x < lo.x || tb.lo.x > hi.x || tb.hi.y < lo.y || tb.lo.y > hi.y || tb.hi.z < lo.z || tb.lo.z > hi.z)
-            continue;
-          out.push_back(t);
-        }
+        out.insert(out.end(), ids_.begin() + begin_[b], ids_.begin() + begin_[b + 1]);
       }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
+  // The exact test rejects by bounding box first.
   std::erase_if(out, [&](int32_t t) { return !locator_.triangle_meets_box(t, lo, hi); });
 }
 

@@ -23,7 +23,6 @@ class TriangleGrid {
  private:
   bool locate(Vec3 lo, Vec3 hi, int first[3], int last[3]) const;
   const SurfaceLocator& locator_;
-  std::vector<Box> boxes_;  // per triangle
   Vec3 origin_;
   double side_ = 1;
   int n_[3] = {1, 1, 1};
