@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <span>
 
 #include <fmt/format.h>
@@ -243,7 +242,7 @@ struct CellClipper::Scratch {
   std::vector<uint32_t> edge_begin, out_begin, fill;
   std::vector<std::pair<int32_t, int32_t>> out_edge;
   std::vector<int8_t> status;
-  std::vector<int32_t> face_gen, along, used_map;
+  std::vector<int32_t> along, used_map;
   Loops faces, loops;
   std::vector<Edge> segs, plane_edges, kept;
   std::vector<uint64_t> all;  // directed edges as (from, to) keys
@@ -266,7 +265,6 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], cell.vertex(v)[a]), hi[a] = std::max(hi[a], cell.vertex(v)[a]);
   Scratch& w = *s_;
   std::vector<int32_t>& tris = w.tris;
-  tris.clear();
   triangles_.triangles_near(x + lo, x + hi, tris);
   if (tris.empty()) return Result::Inside;
 
@@ -455,7 +453,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       return fail_with("the surface crossings along the cell's edges are inconsistent (near-degenerate input)");
 
   // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
-  std::vector<int32_t>& face_gen = w.face_gen;
+  std::vector<int32_t>& face_gen = out.face_gen_;  // built in place: `out` is only read on success
   Loops& faces = w.faces;
   Loops& loops = w.loops;
   face_gen.clear(), faces.clear();
@@ -559,12 +557,11 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
         !std::binary_search(all.begin(), all.end(), key(int32_t(all[k] & 0xFFFFFFFFu), int32_t(all[k] >> 32))))
       return fail_with("the clipped cell is not closed");
   UnionFind& parts = w.parts;
-  parts.parent.resize(pts.size());
-  std::iota(parts.parent.begin(), parts.parent.end(), 0);
+  parts.reset(pts.size());
   for (const uint64_t e : all) parts.unite(int32_t(e >> 32), int32_t(e & 0xFFFFFFFFu));
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(pts.size(), -1);
-  out.points_.clear(), out.names_.clear(), out.face_gen_.assign(face_gen.begin(), face_gen.end());
+  out.points_.clear(), out.names_.clear();
   out.face_start_.assign(1, 0), out.face_vert_.clear();
   int32_t root = -1;
   for (size_t f = 0; f < faces.size(); ++f) {

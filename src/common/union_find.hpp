@@ -10,7 +10,12 @@ namespace froth {
 
 struct UnionFind {
   std::vector<int32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  explicit UnionFind(size_t n) { reset(n); }
+  // Back to n singletons, keeping the storage.
+  void reset(size_t n) {
+    parent.resize(n);
+    std::iota(parent.begin(), parent.end(), 0);
+  }
   int32_t find(int32_t v) {
     while (parent[v] != v) v = parent[v] = parent[parent[v]];
     return v;
