@@ -598,13 +598,18 @@ class Sampler {
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t blk = 0; blk < blocks; ++blk) {
       const int i0 = int(blk % bx) * B, j0 = int((blk / bx) % by) * B, k0 = (bz0 + int(blk / (size_t(bx) * by))) * B;
-      std::vector<int32_t> block_cut, cube_cut, near;
+      std::vector<int32_t> block_cut, cube_cut;
       // The block as a cube of side B * side (it may stick out of the grid: harmless).
       const Vec3 block_lo = g.origin + Vec3{i0 * g.side, j0 * g.side, k0 * g.side};
       const double bh = B * g.side;
-      if (!convex) domain_.locator->triangles_near(block_lo, block_lo + Vec3{bh, bh, bh}, near);
-      int cls = convex ? classify_box(block_lo, bh, all, &block_cut)
-                       : classify_box_by_surface(block_lo, bh, near, &block_cut, nullptr);
+      int cls;
+      if (convex) {
+        cls = classify_box(block_lo, bh, all, &block_cut);
+      } else {
+        // The triangles that meet the block (exactly, as classify_box_by_surface would test them).
+        domain_.locator->triangles_near(block_lo, block_lo + Vec3{bh, bh, bh}, block_cut);
+        cls = block_cut.empty() ? classify_box_by_surface(block_lo, bh, block_cut, nullptr, nullptr) : 0;
+      }
       if (cls < 0) continue;
       if (!convex && cls == 0) {
         // Halves of halves, from a reference point near the block's centre: a cube is tested
