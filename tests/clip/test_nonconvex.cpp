@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <random>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include "common/surface_locator.hpp"
@@ -107,9 +109,9 @@ Domain shape(const std::string& name) {
   } else {
     return load_domain(test::model(name));
   }
-  Domain d = domain_from_surface(s, name);
-  // Features as load_domain finds them.
-  const std::string path = testing::TempDir() + "/" + name + ".off";
+  // Read back through load_domain, so the features are found as for a user's file. The file is
+  // this process's own: ctest runs tests in parallel processes that make the same shapes.
+  const std::string path = fmt::format("{}/{}.{}.off", testing::TempDir(), name, getpid());
   {
     std::FILE* f = std::fopen(path.c_str(), "w");
     fmt::print(f, "OFF\n{} {} 0\n", s.vertices.size(), s.triangles.size());
@@ -117,7 +119,9 @@ Domain shape(const std::string& name) {
     for (auto [a, b, c] : s.triangles) fmt::print(f, "3 {} {} {}\n", a, b, c);
     std::fclose(f);
   }
-  return load_domain(path);
+  Domain d = load_domain(path);
+  std::remove(path.c_str());
+  return d;
 }
 
 struct Case {
