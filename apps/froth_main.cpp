@@ -61,6 +61,10 @@ std::string details_sentence(const froth::RunReport& run) {
                        "lie along concave curved surfaces, whose flat reflex edges are not protected, or where "
                        "features are closer than r.",
                        run.not_star_shaped, run.star_violation);
+  if (run.without_kernel > 0)
+    out += fmt::format(" {} of them are star-shaped from no point (empty kernel): they wrap around a feature thinner "
+                       "than r; a smaller r avoids them.",
+                       run.without_kernel);
   if (run.sampling.edge_seeds + run.sampling.vertex_seeds > 0)
     out += fmt::format(" Protection: {} vertex and {} edge seeds on the reflex edges (r_e = r/sqrt(2)).",
                        run.sampling.vertex_seeds, run.sampling.edge_seeds);

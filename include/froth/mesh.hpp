@@ -132,8 +132,9 @@ struct RunReport {
   size_t cells = 0, interior_cells = 0, fringe_cells = 0, edge_cells = 0, vertex_cells = 0;
   double border_area = 0;  // area of the border faces, to compare with the surface's
   // Cells not star-shaped from their seed (a face plane beyond it by over 1e-6 r), before
-  // welding, and the worst distance / r. Always 0 for convex domains.
-  size_t not_star_shaped = 0;
+  // welding, and the worst distance / r; of those, cells not star-shaped from any point (their
+  // kernel holds no ball of radius 1e-6 r). Always 0 for convex domains.
+  size_t not_star_shaped = 0, without_kernel = 0;
   double star_violation = 0;
   size_t faces = 0, points = 0;
   double domain_volume = 0, volume_sum = 0;

@@ -27,10 +27,13 @@ double cell_volume(const PolyMesh& mesh, size_t c);
 double border_area(const PolyMesh& mesh);
 
 // Star-shapedness from the seeds: a cell is star-shaped from its seed when the seed is on the
-// inner side of every face's plane (it is then in the cell's kernel).
+// inner side of every face's plane (it is then in the cell's kernel, the intersection of those
+// half-spaces). A cell that is not may still be star-shaped from other points, if its kernel
+// holds a ball: what a solver that needs star-shaped cells (virtual elements) asks.
 struct StarShape {
   size_t cells_not = 0;   // cells with a face plane beyond their seed by more than the tolerance
   double worst = 0;       // the largest distance of a face plane beyond its seed
+  size_t cells_without_kernel = 0;  // of those, cells whose kernel holds no ball of radius tolerance
 };
 // Cells [begin, end) only, if given.
 StarShape star_shape(const PolyMesh& mesh, double tolerance, size_t begin = 0, size_t end = SIZE_MAX);

@@ -48,7 +48,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                  {"cells_sum", run.volume_sum},
                  {"relative_error", run.volume_relative_error()}};
   j["border_area"] = {{"surface", run.surface_area}, {"border_faces", run.border_area}};
-  j["star_shaped"] = {{"cells_not_star_shaped", run.not_star_shaped}, {"worst_face_plane_beyond_seed_over_r", run.star_violation}};
+  j["star_shaped"] = {{"cells_not_star_shaped", run.not_star_shaped}, {"worst_face_plane_beyond_seed_over_r", run.star_violation},
+                        {"cells_without_kernel", run.without_kernel}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
   for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;

@@ -85,6 +85,7 @@ void measure_star_shape(const Domain& domain, const PolyMesh& mesh, const MeshOp
   // edges do not (README, "Non-convex domains"): measured here, before welding.
   const StarShape star = star_shape(mesh, 1e-6 * opt.r, begin, end);
   run.not_star_shaped = star.cells_not;
+  run.without_kernel = star.cells_without_kernel;
   run.star_violation = star.worst / opt.r;
 }
 

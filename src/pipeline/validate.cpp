@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "common/face_plane.hpp"
+#include "quality/inscribed_ball.hpp"
 
 namespace froth {
 
@@ -47,22 +48,36 @@ double border_area(const PolyMesh& m) {
 }
 
 StarShape star_shape(const PolyMesh& m, double tolerance, size_t begin, size_t end) {
-  size_t bad = 0;
+  size_t bad = 0, no_kernel = 0;
   double worst = 0;
   end = std::min(end, m.cell_count());
-#pragma omp parallel for schedule(static) reduction(+ : bad) reduction(max : worst)
-  for (size_t c = begin; c < end; ++c) {
-    const Vec3 x = m.seeds[c];
-    double cell_worst = 0;
-    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-      const int64_t b = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - b;
-      const FacePlane p = best_fit_plane(size_t(n), [&](size_t k) { return m.points[m.face_vertices[b + int64_t(k)]] - x; });
-      cell_worst = std::max(cell_worst, -dot(p.normal, p.centroid));
+#pragma omp parallel reduction(+ : bad, no_kernel) reduction(max : worst)
+  {
+    std::vector<Vec3> normals;
+    std::vector<double> offsets;  // of the face planes, relative to the seed
+#pragma omp for schedule(static)
+    for (size_t c = begin; c < end; ++c) {
+      const Vec3 x = m.seeds[c];
+      double cell_worst = 0;
+      normals.clear();
+      offsets.clear();
+      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+        const int64_t b = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - b;
+        const FacePlane p =
+            best_fit_plane(size_t(n), [&](size_t k) { return m.points[m.face_vertices[b + int64_t(k)]] - x; });
+        normals.push_back(p.normal);
+        offsets.push_back(dot(p.normal, p.centroid));
+        cell_worst = std::max(cell_worst, -offsets.back());
+      }
+      if (cell_worst > tolerance) {
+        ++bad;
+        const InscribedBall kernel = largest_inscribed_ball(normals, offsets);
+        no_kernel += !(kernel.ok && kernel.radius > tolerance);
+      }
+      worst = std::max(worst, cell_worst);
     }
-    bad += cell_worst > tolerance;
-    worst = std::max(worst, cell_worst);
   }
-  return {bad, worst};
+  return {bad, worst, no_kernel};
 }
 
 namespace {

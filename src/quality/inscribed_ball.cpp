@@ -16,11 +16,16 @@ InscribedBall largest_inscribed_ball(const std::vector<Vec3>& normals, const std
   std::array<int, 4> nonbasic = {0, 1, 2, 3};
   std::array<double, 4> gamma = {0, 0, 0, 1};
   std::array<bool, 4> negated = {false, false, false, false};
-  double z0 = 0;
+  // Start from c = 0, t = t0 = min(0, min_f d_f), which satisfies every constraint: t - t0
+  // takes t's place, so the slacks d_f - t0 start non-negative. The origin (the seed) need not
+  // be in the kernel: a non-convex cell's seed may lie beyond a face's plane.
+  double t0 = 0;
+  for (size_t f = 0; f < m; ++f) t0 = std::min(t0, offsets[f]);
+  double z0 = t0;
   double scale = 0;
   for (size_t f = 0; f < m; ++f) {
     D[f] = {normals[f].x, normals[f].y, normals[f].z, 1};
-    beta[f] = std::max(0.0, offsets[f]);  // the origin is inside, up to round-off
+    beta[f] = offsets[f] - t0;
     basic[f] = int(4 + f);
     scale = std::max(scale, std::abs(offsets[f]));
   }
@@ -70,7 +75,7 @@ InscribedBall largest_inscribed_ball(const std::vector<Vec3>& normals, const std
   for (size_t i = 0; i < m; ++i)
     if (is_free(basic[i])) x[basic[i]] = negated[basic[i]] ? -beta[i] : beta[i];
   out.center = {x[0], x[1], x[2]};
-  out.radius = z0;
+  out.radius = z0;  // t0 + (t - t0)
   out.ok = true;
   return out;
 }

@@ -17,6 +17,7 @@
 
 #include "common/test_support.hpp"
 #include "froth/quality.hpp"
+#include "quality/inscribed_ball.hpp"
 #include "voronoi/convex_cell.hpp"
 
 namespace froth {
@@ -106,6 +107,21 @@ TEST(Quality, ThinSlab) {
   EXPECT_NEAR(q.outradius, std::sqrt(25 + 25 + 0.0025), 1e-12);
   EXPECT_NEAR(q.aspect, std::sqrt(50.0025) / 0.05, 1e-9);
   EXPECT_NEAR(q.min_edge, 0.1, 1e-12);
+}
+
+// The kernel of a non-convex cell need not hold its seed (the origin): a ball in the cube
+// [1, 3]^3, and none in two half-spaces that do not meet (a negative radius).
+TEST(Quality, InscribedBallAwayFromTheOrigin) {
+  const std::vector<Vec3> axes = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  InscribedBall ball = largest_inscribed_ball(axes, {3, -1, 3, -1, 3, -1});
+  ASSERT_TRUE(ball.ok);
+  EXPECT_NEAR(ball.radius, 1, 1e-12);
+  EXPECT_NEAR(norm(ball.center - Vec3{2, 2, 2}), 0, 1e-12);
+  // x <= -1 and x >= 1, inside |y|, |z| <= 5: the best t is -1, at x = 0.
+  ball = largest_inscribed_ball(axes, {-1, -1, 5, 5, 5, 5});
+  ASSERT_TRUE(ball.ok);
+  EXPECT_NEAR(ball.radius, -1, 1e-12);
+  EXPECT_NEAR(ball.center.x, 0, 1e-12);
 }
 
 // Random convex cells against exact oracles.
