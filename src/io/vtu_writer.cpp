@@ -2,6 +2,7 @@
 // cells in the `faces` / `faceoffsets` layout that VTK 9.1 and ParaView read. Output is a pure
 // function of the mesh and the run parameters: no time stamps, no host names.
 #include <algorithm>
+#include <climits>
 #include <cstring>
 #include <functional>
 #include <sstream>
@@ -82,17 +83,23 @@ std::string raw_array(AppendedBlocks& w, const Vector& v, const char* type, cons
       type, name, components);
 }
 
+// The VTK name of an index type.
+template <class Index>
+const char* index_type() {
+  return sizeof(Index) == 4 ? "Int32" : "Int64";
+}
+
 // A VTK offsets array: the running end of each cell's entries, given each cell's length.
-template <class Length>
+template <class Index, class Length>
 std::string end_offsets(AppendedBlocks& w, size_t cells, Length length, const char* name) {
   return data_array(
-      w, cells * 8,
+      w, cells * sizeof(Index),
       [cells, length](std::ostream& out) {
-        ValueWriter<int64_t> vw(out);
+        ValueWriter<Index> vw(out);
         int64_t end = 0;
-        for (size_t c = 0; c < cells; ++c) vw.put(end += length(c));
+        for (size_t c = 0; c < cells; ++c) vw.put(Index(end += length(c)));
       },
-      "Int64", name);
+      index_type<Index>(), name);
 }
 
 std::string version_numbers(std::string v) {
@@ -100,13 +107,14 @@ std::string version_numbers(std::string v) {
   return v;
 }
 
-// Streams Int64 values cell by cell: cell c has count(c) values, written by fill(c, out). Cells
-// go in batches; each batch is filled by all threads, then written in order, so the file is
-// the same for any thread count and only one batch is held in memory.
-template <class Count, class Fill>
+// Streams index values cell by cell: cell c has count(c) values, written by fill(c, out).
+// Cells go in batches; each batch is filled by all threads, then written in order, so the file
+// is the same for any thread count and only one batch is held in memory.
+template <class Index, class Count, class Fill>
 void stream_cells(std::ostream& out, size_t n, Count count, Fill fill) {
   constexpr size_t kBatch = size_t(1) << 15;
-  std::vector<int64_t> offsets, values;
+  std::vector<int64_t> offsets;
+  std::vector<Index> values;
   for (size_t b0 = 0; b0 < n; b0 += kBatch) {
     const size_t b1 = std::min(n, b0 + kBatch);
     offsets.assign(1, 0);
@@ -114,7 +122,7 @@ void stream_cells(std::ostream& out, size_t n, Count count, Fill fill) {
     values.resize(size_t(offsets.back()));
 #pragma omp parallel for schedule(dynamic, 256)
     for (size_t c = b0; c < b1; ++c) fill(c, values.data() + offsets[c - b0]);
-    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(int64_t)));
+    out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(Index)));
   }
 }
 
@@ -124,6 +132,51 @@ void cell_points(const PolyMesh& m, size_t c, std::vector<int32_t>& pts) {
              m.face_vertices.begin() + m.face_vertex_begin[m.cell_face_begin[c + 1]]);
   std::sort(pts.begin(), pts.end());
   pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+}
+
+// The Cells arrays (connectivity, offsets, types, faces, faceoffsets) with ids of type Index.
+// `npts`: each cell's distinct point count; `connectivity` and `faces`: the two streams' lengths.
+// The blocks are produced after this returns: the producers capture the mesh by reference and
+// everything else by value.
+template <class Index, class StreamLength>
+std::string cell_arrays(AppendedBlocks& w, const PolyMesh& m, const std::vector<uint16_t>& npts, uint64_t connectivity,
+                        uint64_t faces, StreamLength stream_length) {
+  const size_t n = m.cell_count();
+  std::string xml;
+  xml += data_array(
+      w, connectivity * sizeof(Index),
+      [&m, &npts, n](std::ostream& out) {
+        stream_cells<Index>(
+            out, n, [&npts](size_t c) { return npts[c]; },
+            [&m](size_t c, Index* dst) {
+              thread_local std::vector<int32_t> pts;
+              cell_points(m, c, pts);
+              std::copy(pts.begin(), pts.end(), dst);
+            });
+      },
+      index_type<Index>(), "connectivity");
+  xml += end_offsets<Index>(w, n, [&npts](size_t c) { return int64_t(npts[c]); }, "offsets");
+  xml += data_array(
+      w, n,
+      [n](std::ostream& out) {
+        ValueWriter<uint8_t> vw(out);
+        for (size_t c = 0; c < n; ++c) vw.put(kVtkPolyhedron);
+      },
+      "UInt8", "types");
+  xml += data_array(
+      w, faces * sizeof(Index),
+      [&m, n, stream_length](std::ostream& out) {
+        stream_cells<Index>(out, n, stream_length, [&m](size_t c, Index* dst) {
+          *dst++ = Index(m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
+          for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+            *dst++ = Index(m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]);
+            for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) *dst++ = m.face_vertices[k];
+          }
+        });
+      },
+      index_type<Index>(), "faces");
+  xml += end_offsets<Index>(w, n, stream_length, "faceoffsets");
+  return xml;
 }
 
 }  // namespace
@@ -165,39 +218,11 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       << "</FieldData>\n"
       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.points.size(), n)
       << "<Points>\n" << raw_array(w, m.points, "Float64", "Points", 3) << "</Points>\n<Cells>\n";
-  xml << data_array(
-      w, connectivity * 8,
-      [&](std::ostream& out) {
-        stream_cells(
-            out, n, [&](size_t c) { return npts[c]; },
-            [&](size_t c, int64_t* dst) {
-              thread_local std::vector<int32_t> pts;
-              cell_points(m, c, pts);
-              std::copy(pts.begin(), pts.end(), dst);
-            });
-      },
-      "Int64", "connectivity");
-  xml << end_offsets(w, n, [&](size_t c) { return int64_t(npts[c]); }, "offsets");
-  xml << data_array(
-      w, n,
-      [&](std::ostream& out) {
-        ValueWriter<uint8_t> vw(out);
-        for (size_t c = 0; c < n; ++c) vw.put(kVtkPolyhedron);
-      },
-      "UInt8", "types");
-  xml << data_array(
-      w, faces * 8,
-      [&](std::ostream& out) {
-        stream_cells(out, n, stream_length, [&](size_t c, int64_t* dst) {
-          *dst++ = m.cell_face_begin[c + 1] - m.cell_face_begin[c];
-          for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-            *dst++ = m.face_vertex_begin[f + 1] - m.face_vertex_begin[f];
-            for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) *dst++ = m.face_vertices[k];
-          }
-        });
-      },
-      "Int64", "faces");
-  xml << end_offsets(w, n, stream_length, "faceoffsets");
+  // Point ids and offsets in 32 bits when every value fits (half the file); VTK and meshio
+  // read either width.
+  const bool narrow = std::max({uint64_t(m.points.size()), connectivity, faces}) <= uint64_t(INT32_MAX);
+  xml << (narrow ? cell_arrays<int32_t>(w, m, npts, connectivity, faces, stream_length)
+                 : cell_arrays<int64_t>(w, m, npts, connectivity, faces, stream_length));
   xml << "</Cells>\n<CellData>\n" << raw_array(w, m.seeds, "Float64", "seed", 3);
   xml << data_array(
       w, n * 4,
