@@ -137,6 +137,30 @@ TEST(MeshCheckDetects, UnmatchedFaceOpenCellAndNegativeVolume) {
   EXPECT_GE(c.open_cells, 1u);
   EXPECT_NE(c.first_problem.find("cell"), std::string::npos);
 
+  m = good;  // a face given twice: its edges run twice each way
+  {
+    const int64_t fb = m.face_vertex_begin[f], fe = m.face_vertex_begin[f + 1];
+    m.face_vertices.insert(m.face_vertices.begin() + fe, m.face_vertices.begin() + fb, m.face_vertices.begin() + fe);
+    m.face_vertex_begin.insert(m.face_vertex_begin.begin() + f + 1, fe);
+    for (size_t k = size_t(f) + 2; k < m.face_vertex_begin.size(); ++k) m.face_vertex_begin[k] += fe - fb;
+    m.face_generator.insert(m.face_generator.begin() + f + 1, m.face_generator[f]);
+    for (size_t c = 1; c < m.cell_face_begin.size(); ++c) ++m.cell_face_begin[c];
+    EXPECT_GE(check_mesh(m).open_cells, 1u);
+  }
+
+  m = good;  // one triangle of cell 0's first face cut off as a face of its own: an edge used
+             // three times
+  {
+    const int64_t g = m.cell_face_begin[0], fb = m.face_vertex_begin[g];
+    const std::vector<int32_t> tri = {m.face_vertices[fb], m.face_vertices[fb + 1], m.face_vertices[fb + 2]};
+    m.face_vertices.insert(m.face_vertices.begin() + m.face_vertex_begin[g + 1], tri.begin(), tri.end());
+    m.face_vertex_begin.insert(m.face_vertex_begin.begin() + g + 1, m.face_vertex_begin[g + 1]);
+    for (size_t k = size_t(g) + 2; k < m.face_vertex_begin.size(); ++k) m.face_vertex_begin[k] += 3;
+    m.face_generator.insert(m.face_generator.begin() + g + 1, m.face_generator[g]);
+    for (size_t c = 1; c < m.cell_face_begin.size(); ++c) ++m.cell_face_begin[c];
+    EXPECT_GE(check_mesh(m).open_cells, 1u);
+  }
+
   m = good;  // the face reversed: still closed, but not the twin of the neighbour's face
   std::reverse(m.face_vertices.begin() + m.face_vertex_begin[f], m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
   EXPECT_GE(check_mesh(m).unmatched_faces, 1u);
