@@ -233,6 +233,18 @@ except jsonschema.ValidationError as e:
     check(False, f"quality JSON does not meet the schema: {e.message}")
 for key in ("cells", "dihedral_degrees", "bounds", "shortest_edge"):
     check(got[key] == run_quality[key], f"froth quality on froth's VTU: {key} differs from the run report")
+# The tube at r above its wall's thickness: cells wrap around the wall and have no kernel, so
+# their aspect ratio is infinite; the summary says so and the report still meets the schema.
+tube, tube_rep = os.path.join(tmp, "tube.vtu"), os.path.join(tmp, "tube.json")
+p = froth("mesh", os.path.join(MODELS, "round.stl"), "-r", "3", "--weld", "0", "-o", tube, "--report", tube_rep)
+check(p.returncode == 0, f"coarse tube: {p.stderr}")
+tube_report = json.load(open(tube_rep))
+check(tube_report["star_shaped"]["cells_without_kernel"] > 0, f"coarse tube: {tube_report['star_shaped']}")
+check("star-shaped from no point" in p.stderr + p.stdout, "coarse tube: the summary does not mention empty kernels")
+try:
+    jsonschema.validate(tube_report["quality"], schema)
+except jsonschema.ValidationError as e:
+    check(False, f"the coarse tube's quality JSON does not meet the schema: {e.message}")
 for png in ("aspect.png", "dihedral.png"):
     path = os.path.join(plots, png)
     check(os.path.exists(path) and open(path, "rb").read(8) == b"\x89PNG\r\n\x1a\n", f"{png} is not a PNG file")
