@@ -104,12 +104,16 @@ MeshCheck check_mesh(const PolyMesh& m) {
   std::mutex mu;
   size_t first_cell = m.cell_count();
   size_t unmatched = 0, open = 0, nonpositive = 0;
+  // Each face toward a later cell is looked for in that cell (reading a neighbour's faces is
+  // the check's main cost: once per pair, not twice); the faces toward earlier cells must then
+  // be exactly the twins found.
+  size_t twins = 0, toward_earlier = 0;
 #pragma omp parallel
   {
     // Directed edge (a, b) as the undirected pair, then the direction: min << 32 | max << 1 |
     // (a > b); vertex ids are below 2^31.
     std::vector<uint64_t> edges;
-#pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive)
+#pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive, twins, toward_earlier)
     for (size_t c = 0; c < m.cell_count(); ++c) {
       std::string problem;
       edges.clear();
@@ -121,9 +125,14 @@ MeshCheck check_mesh(const PolyMesh& m) {
         }
         int32_t g = m.face_generator[f];
         if (g < 0 || is_other_piece_generator(g)) continue;  // a border face, or one matched by another piece
+        if (size_t(g) < c) {
+          ++toward_earlier;
+          continue;
+        }
         bool twin = false;
         for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && !twin; ++h)
           twin = m.face_generator[h] == int32_t(c) && is_reversed_twin(m, f, h);
+        twins += twin;
         if (!twin) {
           ++unmatched;
           if (problem.empty()) problem = fmt::format("cell {}: face toward cell {} has no identical twin there", c, g);
@@ -149,6 +158,13 @@ MeshCheck check_mesh(const PolyMesh& m) {
         if (c < first_cell) first_cell = c, out.first_problem = problem;
       }
     }
+  }
+  // A twin found is a face toward an earlier cell, and a distinct one (two faces of a cell
+  // with one twin would run the same edges twice: not closed).
+  if (toward_earlier > twins) {
+    unmatched += toward_earlier - twins;
+    if (out.first_problem.empty())
+      out.first_problem = fmt::format("{} faces toward earlier cells are the twin of no face there", toward_earlier - twins);
   }
   out.unmatched_faces = unmatched;
   out.open_cells = open;

@@ -161,6 +161,25 @@ TEST(MeshCheckDetects, UnmatchedFaceOpenCellAndNegativeVolume) {
     EXPECT_GE(check_mesh(m).open_cells, 1u);
   }
 
+  m = good;  // a face of cell g toward a later cell X said to face an earlier neighbour c
+  {           // instead: g now has two faces toward c, and X's face toward g no twin
+    bool done = false;
+    for (size_t g = 1; g < m.cell_count() && !done; ++g) {
+      int32_t earlier = -1;
+      int64_t later_face = -1;
+      for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1]; ++h) {
+        const int32_t x = m.face_generator[h];
+        if (x >= 0 && size_t(x) < g) earlier = x;
+        if (x >= 0 && size_t(x) > g) later_face = h;
+      }
+      if (earlier >= 0 && later_face >= 0) m.face_generator[later_face] = earlier, done = true;
+    }
+    ASSERT_TRUE(done);
+    const MeshCheck c = check_mesh(m);
+    EXPECT_GE(c.unmatched_faces, 1u);
+    EXPECT_EQ(c.open_cells, 0u);
+  }
+
   m = good;  // the face reversed: still closed, but not the twin of the neighbour's face
   std::reverse(m.face_vertices.begin() + m.face_vertex_begin[f], m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
   EXPECT_GE(check_mesh(m).unmatched_faces, 1u);
