@@ -31,10 +31,18 @@ struct CellScratch {
   std::vector<Vec3> normals;
   std::vector<double> offsets;
   std::vector<bool> border;
+  // An edge's use by a face as two integers, so that sorting compares two integers: its ends
+  // a < b (ids below 2^31), then the face's index in the cell and whether the face runs the
+  // edge from a to b.
   struct EdgeUse {
-    int32_t a, b;  // a < b
-    uint32_t face;
-    bool forward;  // the face runs the edge from a to b
+    uint64_t ends, use;
+    EdgeUse(int32_t a, int32_t b, uint32_t face, bool forward)
+        : ends(uint64_t(a) << 32 | uint32_t(b)), use(uint64_t(face) << 1 | forward) {}
+    int32_t a() const { return int32_t(ends >> 32); }
+    int32_t b() const { return int32_t(uint32_t(ends)); }
+    uint32_t face() const { return uint32_t(use >> 1); }
+    bool forward() const { return use & 1; }
+    bool operator<(const EdgeUse& o) const { return ends != o.ends ? ends < o.ends : use < o.use; }
   };
   std::vector<EdgeUse> edges;
 };
@@ -69,7 +77,7 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     for (int64_t k = b; k < e; ++k) {
       w.ids.push_back(m.face_vertices[k]);
       const int32_t a = m.face_vertices[k], bb = m.face_vertices[k + 1 < e ? k + 1 : b];
-      w.edges.push_back({std::min(a, bb), std::max(a, bb), uint32_t(f - f0), a < bb});
+      w.edges.emplace_back(std::min(a, bb), std::max(a, bb), uint32_t(f - f0), a < bb);
     }
     // The best-fit plane of a (possibly welded) face, relative to the seed.
     const FacePlane plane =
@@ -95,28 +103,26 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   q.aspect = q.inradius > 0 ? q.outradius / q.inradius : INFINITY;
 
   // Each edge is used by two faces of a closed cell: pair them up.
-  std::sort(w.edges.begin(), w.edges.end(), [](const auto& x, const auto& y) {
-    return x.a != y.a ? x.a < y.a : (x.b != y.b ? x.b < y.b : x.face < y.face);
-  });
+  std::sort(w.edges.begin(), w.edges.end());  // by ends, then face
   q.min_dihedral = INFINITY, q.max_dihedral = -INFINITY, q.min_edge = INFINITY;
   for (size_t k = 0; k + 1 < w.edges.size(); ++k) {
     const auto& x = w.edges[k];
     const auto& y = w.edges[k + 1];
-    if (x.a != y.a || x.b != y.b) continue;
+    if (x.ends != y.ends) continue;
     ++k;
-    q.min_edge = std::min(q.min_edge, norm(m.points[x.a] - m.points[x.b]));
+    q.min_edge = std::min(q.min_edge, norm(m.points[x.a()] - m.points[x.b()]));
     // The angle inside the cell between two faces is pi minus the angle of their outward normals
     // at a convex edge, pi plus it at a reflex one (star-shaped cells of non-convex domains):
     // convex when the normals turn along the edge as the first face runs it.
-    const double cosine = std::clamp(dot(w.normals[x.face], w.normals[y.face]), -1.0, 1.0);
-    const Vec3 run = x.forward ? m.points[x.b] - m.points[x.a] : m.points[x.a] - m.points[x.b];
-    const bool reflex = dot(cross(w.normals[x.face], w.normals[y.face]), run) < 0;
+    const double cosine = std::clamp(dot(w.normals[x.face()], w.normals[y.face()]), -1.0, 1.0);
+    const Vec3 run = x.forward() ? m.points[x.b()] - m.points[x.a()] : m.points[x.a()] - m.points[x.b()];
+    const bool reflex = dot(cross(w.normals[x.face()], w.normals[y.face()]), run) < 0;
     const double angle = reflex ? 180 + std::acos(cosine) * kDegree : 180 - std::acos(cosine) * kDegree;
     q.min_dihedral = std::min(q.min_dihedral, angle);
     q.max_dihedral = std::max(q.max_dihedral, angle);
     if (angles) {
-      const int borders = int(w.border[x.face]) + int(w.border[y.face]);
-      const int32_t gx = m.face_generator[f0 + x.face], gy = m.face_generator[f0 + y.face];
+      const int borders = int(w.border[x.face()]) + int(w.border[y.face()]);
+      const int32_t gx = m.face_generator[f0 + x.face()], gy = m.face_generator[f0 + y.face()];
       const bool relaxed = borders == 0 ? is_protection_seed(m, gx) && is_protection_seed(m, gy)
                                         : m.kinds[c] >= CellKind::Edge &&
                                               (is_protection_seed(m, gx) || is_protection_seed(m, gy));
