@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -48,6 +49,14 @@ const CLI::Validator kNonNegativeSeed(
 // --weld: negative (unset) means the default, 1e-4 r.
 double weld_tolerance(double weld, double r) { return weld < 0 ? 1e-4 * r : weld; }
 
+// "interior aspect ratio A to B (mean M)", or what stands for it when there is no interior cell
+// (a domain thinner than r).
+std::string interior_aspect_text(const froth::QualityReport& q) {
+  const auto& in = q.aspect[0];
+  if (q.cells[0] == 0) return "no interior cells";
+  return fmt::format("interior aspect ratio {:.3f} to {:.3f} (mean {:.3f})", in.min, in.max, in.mean());
+}
+
 // The summary's sentences on features, welding and quality.
 std::string details_sentence(const froth::RunReport& run) {
   const froth::FeatureSummary& f = run.features;
@@ -84,12 +93,11 @@ std::string details_sentence(const froth::RunReport& run) {
   const froth::QualityReport& q = *run.quality;
   // The paper's bounds hold before welding.
   const froth::QualityReport& b = run.bounds_before_weld ? *run.bounds_before_weld : q;
-  const auto& in = q.aspect[0];
   const auto& ii = q.dihedral[0];
   out += fmt::format(
-      " Quality: interior aspect ratio {:.3f} to {:.3f} (mean {:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, "
+      " Quality: {}, interior dihedrals {:.1f} to {:.1f} degrees, "
       "shortest edge {:.3g}; cells beyond the paper's bounds{}: {} (Theorem 1), {} and {} (Lemma 6).",
-      in.min, in.max, in.mean(), ii.min, ii.max, q.shortest_edge, run.bounds_before_weld ? " before welding" : "",
+      interior_aspect_text(q), ii.min, ii.max, q.shortest_edge, run.bounds_before_weld ? " before welding" : "",
       b.theorem1_violations, b.lemma6_interior_violations, b.lemma6_border_violations);
   if (run.bounds_before_weld)
     out += fmt::format(" Welding moved aspect ratios by at most {:.2g} and dihedrals by at most {:.2g} degrees.",
@@ -314,16 +322,17 @@ int run_quality(const QualityArgs& a) {
   if (!a.plots.empty()) draw_plots(json, a.plots);
   size_t cells = 0;
   for (auto n : q.cells) cells += n;
-  const auto& in = q.aspect[0];
+  std::string aspect = interior_aspect_text(q);
+  aspect[0] = char(std::toupper(aspect[0]));
   fmt::print(
-      "froth: {}: {} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex); {}. Interior aspect ratio {:.3f} to {:.3f} (mean "
-      "{:.3f}), interior dihedrals {:.1f} to {:.1f} degrees, shortest edge {:.3g}; interior cells beyond Theorem 1: "
+      "froth: {}: {} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex); {}. {}, interior dihedrals {:.1f} "
+      "to {:.1f} degrees, shortest edge {:.3g}; interior cells beyond Theorem 1: "
       "{}, beyond Lemma 6: {} interior, {} border-interior.{}{}\n",
       a.input, cells, q.cells[0], q.cells[1], q.cells[2], q.cells[3],
       check.ok() ? "every cell closed, every shared face matched"
                  : fmt::format("NOT VALID: {} open cells, {} unmatched faces, {} cells of non-positive volume (first: {})",
                                check.open_cells, check.unmatched_faces, check.nonpositive_cells, check.first_problem),
-      in.min, in.max, in.mean(), q.dihedral[0].min, q.dihedral[0].max, q.shortest_edge, q.theorem1_violations,
+      aspect, q.dihedral[0].min, q.dihedral[0].max, q.shortest_edge, q.theorem1_violations,
       q.lemma6_interior_violations, q.lemma6_border_violations, json.empty() ? "" : " Wrote " + json + ".",
       a.plots.empty() ? "" : " Plots in " + a.plots + ".");
   return 0;

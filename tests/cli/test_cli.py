@@ -241,6 +241,7 @@ check(p.returncode == 0, f"coarse tube: {p.stderr}")
 tube_report = json.load(open(tube_rep))
 check(tube_report["star_shaped"]["cells_without_kernel"] > 0, f"coarse tube: {tube_report['star_shaped']}")
 check("star-shaped from no point" in p.stderr + p.stdout, "coarse tube: the summary does not mention empty kernels")
+check("Quality: no interior cells," in p.stderr + p.stdout, "coarse tube: the summary gives an interior aspect ratio")
 try:
     jsonschema.validate(tube_report["quality"], schema)
 except jsonschema.ValidationError as e:
