@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "common/closed_edges.hpp"
 #include "common/surface_locator.hpp"
 #include "common/union_find.hpp"
 
@@ -245,7 +246,7 @@ struct CellClipper::Scratch {
   std::vector<int32_t> along, used_map;
   Loops faces, loops;
   std::vector<Edge> segs, plane_edges, kept;
-  std::vector<uint64_t> all;  // directed edges as (from, to) keys
+  std::vector<uint64_t> all;  // directed_edge_key of each face edge
   std::vector<int32_t> chain_leaving;
   std::vector<uint8_t> chain_used;
   UnionFind parts{0};
@@ -545,20 +546,16 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.
   std::vector<uint64_t>& all = w.all;
-  auto key = [](int32_t from, int32_t to) { return uint64_t(uint32_t(from)) << 32 | uint32_t(to); };
   all.clear();
   for (size_t f = 0; f < faces.size(); ++f) {
     const auto face = faces[f];
-    for (size_t k = 0; k < face.size(); ++k) all.push_back(key(face[k], face[(k + 1) % face.size()]));
+    for (size_t k = 0; k < face.size(); ++k)
+      all.push_back(directed_edge_key(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()])));
   }
-  std::sort(all.begin(), all.end());
-  for (size_t k = 0; k < all.size(); ++k)
-    if ((k > 0 && all[k - 1] == all[k]) ||
-        !std::binary_search(all.begin(), all.end(), key(int32_t(all[k] & 0xFFFFFFFFu), int32_t(all[k] >> 32))))
-      return fail_with("the clipped cell is not closed");
+  if (!each_edge_once_each_way(all)) return fail_with("the clipped cell is not closed");
   UnionFind& parts = w.parts;
   parts.reset(pts.size());
-  for (const uint64_t e : all) parts.unite(int32_t(e >> 32), int32_t(e & 0xFFFFFFFFu));
+  for (const uint64_t e : all) parts.unite(int32_t(edge_key_low(e)), int32_t(edge_key_high(e)));
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(pts.size(), -1);
   out.points_.clear(), out.names_.clear();

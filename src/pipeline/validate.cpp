@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "common/closed_edges.hpp"
 #include "common/face_plane.hpp"
 #include "quality/inscribed_ball.hpp"
 
@@ -110,19 +111,15 @@ MeshCheck check_mesh(const PolyMesh& m) {
   size_t twins = 0, toward_earlier = 0;
 #pragma omp parallel
   {
-    // Directed edge (a, b) as the undirected pair, then the direction: min << 32 | max << 1 |
-    // (a > b); vertex ids are below 2^31.
-    std::vector<uint64_t> edges;
+    std::vector<uint64_t> edges;  // directed_edge_key of each face edge
 #pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive, twins, toward_earlier)
     for (size_t c = 0; c < m.cell_count(); ++c) {
       std::string problem;
       edges.clear();
       for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
         int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-        for (int64_t k = b; k < e; ++k) {
-          const uint64_t u = uint32_t(m.face_vertices[k]), v = uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b]);
-          edges.push_back(std::min(u, v) << 32 | std::max(u, v) << 1 | uint64_t(u > v));
-        }
+        for (int64_t k = b; k < e; ++k)
+          edges.push_back(directed_edge_key(uint32_t(m.face_vertices[k]), uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b])));
         int32_t g = m.face_generator[f];
         if (g < 0 || is_other_piece_generator(g)) continue;  // a border face, or one matched by another piece
         if (size_t(g) < c) {
@@ -138,13 +135,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
           if (problem.empty()) problem = fmt::format("cell {}: face toward cell {} has no identical twin there", c, g);
         }
       }
-      // Closed: every edge is run once each way. Sorted, the edges then come in pairs of one
-      // undirected edge, one of each direction, and no pair's edge is its neighbour's.
-      std::sort(edges.begin(), edges.end());
-      bool closed = edges.size() % 2 == 0;
-      for (size_t k = 0; closed && k < edges.size(); k += 2)
-        closed = edges[k + 1] == (edges[k] | 1) && !(edges[k] & 1) && (k + 2 == edges.size() || edges[k + 2] >> 1 != edges[k] >> 1);
-      if (!closed) {
+      if (!each_edge_once_each_way(edges)) {
         ++open;
         if (problem.empty()) problem = fmt::format("cell {}: faces do not close", c);
       }
