@@ -32,9 +32,10 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   // several faces), the shortest edge and the border's area.
   const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int32_t, int32_t>>> found(chunks);
-  double shortest2 = INFINITY, area = 0;
+  double shortest2 = INFINITY;
+  std::vector<double> chunk_area(chunks, 0.0);  // summed in chunk order: the same for any thread count
   const bool scan = edges.empty();
-#pragma omp parallel for schedule(dynamic, 1) reduction(min : shortest2) reduction(+ : area)
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : shortest2)
   for (size_t ch = 0; ch < (scan ? chunks : 0); ++ch)
     for (size_t f = ch * chunk; f < std::min(nf, (ch + 1) * chunk); ++f) {
       const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
@@ -46,9 +47,9 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         if (u < v && l2 < w * w) found[ch].push_back({u, v});
         n = n + cross(m.points[u], m.points[v]);
       }
-      if (is_border_generator(m.face_generator[f])) area += norm(n) / 2;
+      if (is_border_generator(m.face_generator[f])) chunk_area[ch] += norm(n) / 2;
     }
-  st.border_area = area;
+  for (double a : chunk_area) st.border_area += a;
   st.shortest_edge_before = std::isfinite(shortest2) ? std::sqrt(shortest2) : 0;
   std::vector<std::pair<int32_t, int32_t>> short_edges;
   short_edges.swap(edges);
@@ -149,11 +150,13 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   }
   for (size_t v = 0; v < refused.size(); ++v) st.clusters_refused += refused[v] && uf.find(int32_t(v)) == int32_t(v);
 
-  // A cluster with a border vertex goes to its keeper, any other to its centroid.
+  // A cluster with a border vertex goes to its keeper, any other to its centroid: worked out
+  // before any point moves, as the points are then renumbered in place.
   struct Cluster {
     Vec3 sum{};
     int count = 0;
     int32_t keeper = -1;
+    Vec3 to{};
   };
   std::map<int32_t, Cluster> clusters;
   for (const auto& [v, p] : planes) {
@@ -164,81 +167,109 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     const Keeper& k = keeper.at(uf.find(v));
     if (!k.planes->empty()) c.keeper = k.vertex;
   }
+  for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
+  // Where vertex v's cluster goes (v itself, if it is in none of more than one vertex).
+  const auto destination = [&](int32_t v) {
+    const int32_t root = member[v] ? uf.find(v) : v;
+    const auto it = root == v && !member[v] ? clusters.end() : clusters.find(root);
+    return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
+  };
 
   // New points: one per root, in id order; every old point's new id.
-  std::vector<int32_t> new_id(m.points.size(), -1);
-  Buffer<Vec3> points;
-  points.reserve(m.points.size());
-  for (size_t v = 0; v < m.points.size(); ++v) {
-    if (member[v] && uf.find(int32_t(v)) != int32_t(v)) continue;
-    new_id[v] = int32_t(points.size());
-    Vec3 p = m.points[v];
-    auto it = member[v] ? clusters.find(int32_t(v)) : clusters.end();
-    if (it != clusters.end() && it->second.count > 1)
-      p = it->second.keeper >= 0 ? m.points[it->second.keeper] : (1.0 / it->second.count) * it->second.sum;
-    points.push_back(p);
-  }
-  for (size_t v = 0; v < m.points.size(); ++v) {
+  const size_t np = m.points.size();
+  std::vector<int32_t> new_id(np, -1);
+  int32_t kept = 0;
+  for (size_t v = 0; v < np; ++v)
+    if (!member[v] || uf.find(int32_t(v)) == int32_t(v)) new_id[v] = kept++;
+  for (size_t v = 0; v < np; ++v) {
     if (!member[v]) continue;
     const int32_t root = uf.find(int32_t(v));
     if (root != int32_t(v)) ++st.edges_collapsed, new_id[v] = new_id[root];
-    st.max_displacement = std::max(st.max_displacement, norm(points[new_id[v]] - m.points[v]));
+    st.max_displacement = std::max(st.max_displacement, norm(destination(root) - m.points[v]));
+  }
+  // In place: new_id[v] <= v, and point v is read before any later one is written over it.
+  for (size_t v = 0; v < np; ++v) {
+    if (new_id[v] < 0 || (member[v] && uf.find(int32_t(v)) != int32_t(v))) continue;
+    m.points[new_id[v]] = member[v] ? destination(int32_t(v)) : m.points[v];
+  }
+  m.points.resize(size_t(kept));
+
+  // Faces. Only faces with a member vertex can lose vertices (or vanish, with fewer than three
+  // left): their new vertex lists are made first; every other face is renumbered where it is.
+  // The arrays are then rewritten in place from the first face that shrank on, which keeps the
+  // peak memory of a welded run that of the mesh (a rebuilt copy of the face arrays added half
+  // of it at 1e6 cells).
+  std::vector<int32_t> member_vertices;
+  std::vector<size_t> member_begin{0};
+  for (int64_t f : member_faces) {
+    collapsed(m, f, [&](int32_t v) { return new_id[v]; }, cyc);
+    member_vertices.insert(member_vertices.end(), cyc.begin(), cyc.end());
+    member_begin.push_back(member_vertices.size());
+  }
+  const int64_t entries = m.face_vertex_begin[nf];
+#pragma omp parallel for schedule(static)
+  for (int64_t k = 0; k < entries; ++k) m.face_vertices[k] = new_id[m.face_vertices[k]];
+  int64_t first = int64_t(nf);  // the first face that shrinks
+  for (size_t i = 0; i < member_faces.size(); ++i) {
+    const int64_t f = member_faces[i], n = int64_t(member_begin[i + 1] - member_begin[i]);
+    if (n == m.face_vertex_begin[f + 1] - m.face_vertex_begin[f]) {
+      std::copy(member_vertices.begin() + member_begin[i], member_vertices.begin() + member_begin[i + 1],
+                m.face_vertices.begin() + m.face_vertex_begin[f]);
+    } else if (first == int64_t(nf)) {
+      first = f;
+    }
+    if (n < 3) ++st.faces_removed;
+  }
+  if (first < int64_t(nf)) {
+    // Faces before `first` stay; from there each face moves down to the end of the kept ones
+    // (never past its own start, as faces only shrink), and each cell's first face follows.
+    const size_t nc = m.cell_count();
+    size_t cell = size_t(std::upper_bound(m.cell_face_begin.begin(), m.cell_face_begin.begin() + nc, first) -
+                         m.cell_face_begin.begin());
+    size_t i = size_t(std::lower_bound(member_faces.begin(), member_faces.end(), first) - member_faces.begin());
+    int64_t face = first, entry = m.face_vertex_begin[first];
+    for (int64_t f = first; f < int64_t(nf); ++f) {
+      while (cell < nc && m.cell_face_begin[cell] == f) m.cell_face_begin[cell++] = face;
+      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+      const int32_t generator = m.face_generator[f];
+      if (i < member_faces.size() && member_faces[i] == f) {
+        const size_t mb = member_begin[i], me = member_begin[i + 1];
+        ++i;
+        if (me - mb < 3) continue;
+        std::copy(member_vertices.begin() + mb, member_vertices.begin() + me, m.face_vertices.begin() + entry);
+        m.face_vertex_begin[face] = entry;
+        entry += int64_t(me - mb);
+      } else {
+        std::copy(m.face_vertices.begin() + b, m.face_vertices.begin() + e, m.face_vertices.begin() + entry);
+        m.face_vertex_begin[face] = entry;
+        entry += e - b;
+      }
+      m.face_generator[face++] = generator;
+    }
+    while (cell <= nc) m.cell_face_begin[cell++] = face;
+    m.face_vertex_begin[face] = entry;
+    m.face_generator.resize(size_t(face));
+    m.face_vertex_begin.resize(size_t(face) + 1);
+    m.face_vertices.resize(size_t(entry));
   }
 
-  // Faces rebuilt through the map, in parallel by blocks of cells (sizes first, then the
-  // contents); faces left with fewer than three vertices are gone.
-  const size_t nc = m.cell_count(), cell_chunk = 4096, cell_chunks = (nc + cell_chunk - 1) / cell_chunk;
-  std::vector<int64_t> chunk_faces(cell_chunks + 1, 0), chunk_entries(cell_chunks + 1, 0);
-  auto mapped = [&](int64_t f, std::vector<int32_t>& out) {
-    collapsed(m, f, [&](int32_t v) { return new_id[v]; }, out);
-  };
-  uint64_t removed = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : removed)
-  for (size_t ch = 0; ch < cell_chunks; ++ch) {
-    std::vector<int32_t> out;
-    int64_t faces = 0, entries = 0;
-    for (int64_t f = m.cell_face_begin[ch * cell_chunk]; f < m.cell_face_begin[std::min(nc, (ch + 1) * cell_chunk)]; ++f) {
-      mapped(f, out);
-      if (out.size() < 3) ++removed;
-      else ++faces, entries += int64_t(out.size());
-    }
-    chunk_faces[ch + 1] = faces, chunk_entries[ch + 1] = entries;
-  }
-  st.faces_removed = removed;
-  for (size_t ch = 0; ch < cell_chunks; ++ch)
-    chunk_faces[ch + 1] += chunk_faces[ch], chunk_entries[ch + 1] += chunk_entries[ch];
-  std::vector<int64_t> cell_face_begin(nc + 1);
-  Buffer<int32_t> face_generator(chunk_faces[cell_chunks]);
-  Buffer<int64_t> face_vertex_begin(chunk_faces[cell_chunks] + 1);
-  Buffer<int32_t> face_vertices(chunk_entries[cell_chunks]);
+  // The shortest edge now.
+  const size_t faces_after = m.face_count();
   double shortest_after2 = INFINITY;
-#pragma omp parallel for schedule(dynamic, 1) reduction(min : shortest_after2)
-  for (size_t ch = 0; ch < cell_chunks; ++ch) {
-    std::vector<int32_t> out;
-    int64_t face = chunk_faces[ch], entry = chunk_entries[ch];
-    for (size_t c = ch * cell_chunk; c < std::min(nc, (ch + 1) * cell_chunk); ++c) {
-      cell_face_begin[c] = face;
-      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-        mapped(f, out);
-        if (out.size() < 3) continue;
-        face_generator[face] = m.face_generator[f];
-        face_vertex_begin[face++] = entry;
-        for (size_t k = 0; k < out.size(); ++k) {
-          face_vertices[entry++] = out[k];
-          shortest_after2 = std::min(shortest_after2, norm2(points[out[k]] - points[out[(k + 1) % out.size()]]));
-        }
-      }
-    }
+#pragma omp parallel for schedule(static) reduction(min : shortest_after2)
+  for (size_t f = 0; f < faces_after; ++f) {
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    for (int64_t k = b; k < e; ++k)
+      shortest_after2 = std::min(shortest_after2, norm2(m.points[m.face_vertices[k]] - m.points[m.face_vertices[k + 1 < e ? k + 1 : b]]));
   }
-  cell_face_begin[nc] = chunk_faces[cell_chunks];
-  face_vertex_begin[chunk_faces[cell_chunks]] = chunk_entries[cell_chunks];
   st.shortest_edge_after = std::isfinite(shortest_after2) ? std::sqrt(shortest_after2) : 0;
 
   // Of the faces that had a merged vertex: the non-planarity (distance of each vertex from the
   // best-fit plane), and the edges still shorter than w, which are the only places the next
   // pass needs to look.
-  for (int64_t f : member_faces) {
-    mapped(f, cyc);
+  const Buffer<Vec3>& points = m.points;
+  for (size_t i = 0; i < member_faces.size(); ++i) {
+    cyc.assign(member_vertices.begin() + member_begin[i], member_vertices.begin() + member_begin[i + 1]);
     if (cyc.size() < 3) continue;
     for (size_t k = 0; k < cyc.size(); ++k) {
       const int32_t u = cyc[k], v = cyc[(k + 1) % cyc.size()];
@@ -251,11 +282,6 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(plane.normal, points[v] - plane.centroid)) / r);
   }
 
-  m.points = std::move(points);
-  m.cell_face_begin = std::move(cell_face_begin);
-  m.face_generator = std::move(face_generator);
-  m.face_vertex_begin = std::move(face_vertex_begin);
-  m.face_vertices = std::move(face_vertices);
   m.volumes.clear();
   m.quality.clear();
   return st;

@@ -70,14 +70,27 @@ TEST(Weld, BelowTheShortestEdgeChangesNothing) {
 }
 
 TEST(Weld, SameResultForAnyThreadCount) {
-  PolyMesh a = unwelded("sphere", 0.1, 4), b = a;
+  // Over 16384 faces, so the border area is summed over several chunks; and welding heavily
+  // enough (w = r / 10) that faces vanish and the face arrays are compacted in place.
+  const double r = 0.05;
+  PolyMesh a = unwelded("sphere", r, 4), b = a;
+  ASSERT_GT(a.face_count(), 4u * 16384);
   omp_set_num_threads(1);
-  weld_mesh(a, 0.005, 0.1);
+  const WeldStats sa = weld_mesh(a, r / 10, r);
   omp_set_num_threads(2);
-  weld_mesh(b, 0.005, 0.1);
+  const WeldStats sb = weld_mesh(b, r / 10, r);
+  EXPECT_GT(sa.faces_removed, 0u);
   EXPECT_EQ(a.points, b.points);
   EXPECT_EQ(a.face_vertices, b.face_vertices);
+  EXPECT_EQ(a.face_vertex_begin, b.face_vertex_begin);
+  EXPECT_EQ(a.face_generator, b.face_generator);
   EXPECT_EQ(a.cell_face_begin, b.cell_face_begin);
+  EXPECT_EQ(sa.border_area, sb.border_area);  // bit for bit: the report is a pure function too
+  EXPECT_EQ(sa.edges_collapsed, sb.edges_collapsed);
+  EXPECT_EQ(sa.max_displacement, sb.max_displacement);
+  EXPECT_EQ(sa.shortest_edge_after, sb.shortest_edge_after);
+  const MeshCheck check = check_mesh(a);
+  EXPECT_TRUE(check.ok()) << check.first_problem;
 }
 
 // Border vertices keep their planes: welding a box keeps every border vertex on the box.
