@@ -143,10 +143,43 @@ class Sampler {
     return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
   }
 
+  // The entries (cube_seed) of base cube b's stencil cubes that hold seeds, in stencil order,
+  // into `found` (room for kStencilSize); -1 when the stencil leaves the grid or the window, and
+  // the caller walks it cube by cube. Most cubes are two or more cubes from the sides: their
+  // stencil is read through index offsets without a branch per cube (nine in ten are empty,
+  // which a branch mispredicts: 15% of the sampling time at 3e5 seeds).
+  static constexpr int kStencilSize = 116;
+  int occupied_stencil(int64_t b, int i0, int j0, int32_t* found) const {
+    const auto& g = s_.grid;
+    const int64_t slot = b - s_.cube_offset, span = 2 * (int64_t(g.nx) * g.ny + g.nx + 1);
+    if (!(i0 >= 2 && i0 + 2 < g.nx && j0 >= 2 && j0 + 2 < g.ny && slot >= span &&
+          slot + span < int64_t(s_.cube_seed.size())))
+      return -1;
+    const int32_t* at = s_.cube_seed.data() + slot;
+    int n = 0;
+    for (int64_t off : stencil_offsets_) {
+      const int32_t q = at[off];
+      found[n] = q;
+      n += q != -1;
+    }
+    return n;
+  }
+  // Calls f(position) for the seeds of the entries occupied_stencil() found.
+  template <class F>
+  void for_found_seeds(const int32_t* found, int n, F&& f) const {
+    for (int k = 0; k < n; ++k) {
+      const int32_t q = found[k];
+      if (q >= 0) {
+        f(s_.seeds[q]);
+        continue;
+      }
+      for (int32_t e = s_.cube_extra_begin[-2 - q]; e < s_.cube_extra_begin[-1 - q]; ++e)  // protection seeds
+        f(s_.seeds[s_.cube_extra[e]]);
+    }
+  }
+
   // Seeds within r of base cube b (which holds no seed), read from the grid itself through the
-  // stencil below. Most cubes are two or more cubes from the grid's sides (and the window's): their
-  // stencil is a list of index offsets, read without a branch per cube (nine in ten are empty,
-  // which a branch mispredicts).
+  // stencil below.
   void seeds_near_base_cube(int64_t b, std::vector<Vec3>& near) const {
     near.clear();
     const auto& g = s_.grid;
@@ -161,28 +194,9 @@ class Sampler {
       }
       if (d2 < r2_) near.push_back(p);
     };
-    const int64_t slot = b - s_.cube_offset, span = 2 * (int64_t(g.nx) * g.ny + g.nx + 1);
-    if (i0 >= 2 && i0 + 2 < g.nx && j0 >= 2 && j0 + 2 < g.ny && slot >= span &&
-        slot + span < int64_t(s_.cube_seed.size())) {
-      const int32_t* at = s_.cube_seed.data() + slot;
-      int32_t found[128];
-      int n = 0;
-      for (int64_t off : stencil_offsets_) {
-        const int32_t q = at[off];
-        found[n] = q;
-        n += q != -1;
-      }
-      for (int k = 0; k < n; ++k) {
-        const int32_t q = found[k];
-        if (q >= 0) {
-          add_if_near(s_.seeds[q]);
-          continue;
-        }
-        for (int32_t e = s_.cube_extra_begin[-2 - q]; e < s_.cube_extra_begin[-1 - q]; ++e)  // protection seeds
-          add_if_near(s_.seeds[s_.cube_extra[e]]);
-      }
-      return;
-    }
+    int32_t found[kStencilSize];
+    const int n = occupied_stencil(b, i0, j0, found);
+    if (n >= 0) return for_found_seeds(found, n, add_if_near);
     for (const auto& [di, dj, dk] : stencil()) {
       if (!g.inside(i0 + di, j0 + dj, k0 + dk)) continue;
       s_.for_seeds_in_cube(g.index(i0 + di, j0 + dj, k0 + dk), [&](int32_t id) { add_if_near(s_.seeds[id]); });
@@ -216,6 +230,13 @@ class Sampler {
     const auto& g = s_.grid;
     int i0, j0, k0;
     g.coords(b, i0, j0, k0);
+    int32_t found[kStencilSize];
+    const int n = occupied_stencil(b, i0, j0, found);
+    if (n >= 0) {
+      bool hit = false;
+      for_found_seeds(found, n, [&](Vec3 s) { hit |= norm2(s - p) < r2_; });
+      return hit;
+    }
     const Vec3 q = p - g.origin;
     double gap[3][5];  // squared distance from p to the slab of cube c0 + d along each axis
     for (int d = -2; d <= 2; ++d) {
@@ -928,9 +949,13 @@ class Sampler {
         // Of the base cube's neighbours, those that may reach this cube.
         const Vec3 center = lo + Vec3{h, h, h};
         const double reach = r_ + h * std::sqrt(3.0);
-        near.clear();
-        for (Vec3 q : near_base)
-          if (norm2(q - center) < reach * reach) near.push_back(q);
+        near.resize(near_base.size());  // filled without a branch per seed
+        size_t in_reach = 0;
+        for (Vec3 q : near_base) {
+          near[in_reach] = q;
+          in_reach += norm2(q - center) < reach * reach;
+        }
+        near.resize(in_reach);
         ff.build(lo, h, near);
         corners.reset(lo, h);
         const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
