@@ -114,7 +114,19 @@ struct Neighbour {
 class CellBuilder {
  public:
   CellBuilder(const Domain& domain, const Sample& sample, double r)
-      : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)) {
+      : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)), reach_(2 * r * (1 + 1e-9)) {
+    const BackgroundGrid& g = sample.grid;
+    // Cubes (di, dj, dk) away whose distance from the seed's cube is below the reach.
+    const int span = int(std::ceil(reach_ / g.side));
+    for (int dk = -span; dk <= span; ++dk)
+      for (int dj = -span; dj <= span; ++dj)
+        for (int di = -span; di <= span; ++di) {
+          auto gap = [&](int d) { return std::max(std::abs(d) - 1, 0) * g.side; };
+          if (gap(di) * gap(di) + gap(dj) * gap(dj) + gap(dk) * gap(dk) >= reach_ * reach_) continue;
+          stencil_offsets_.push_back((int64_t(dk) * g.ny + dj) * g.nx + di);
+        }
+    if (stencil_offsets_.size() > size_t(kMaxStencil)) stencil_offsets_.clear(), stencil_span_ = 1 << 30;
+    else stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
     if (!domain.convex) {
       generators_.emplace(domain);
       triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
@@ -153,15 +165,7 @@ class CellBuilder {
       if (!usable(cell.clip(pl.normal, gap, plane_generator(int32_t(p)), eps_)))
         return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
     }
-    nb.clear();
-    const double reach = 2 * r_ * (1 + 1e-9);
-    sample_.grid.for_cubes_near(x, reach, [&](int64_t c) {
-      sample_.for_seeds_in_cube(c, [&](int32_t j) {
-        if (j == i) return;
-        double d2 = norm2(sample_.seeds[j] - x);
-        if (d2 <= reach * reach) nb.push_back({d2, j});
-      });
-    });
+    gather_neighbours(i, x, nb);
     std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
       return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed;
     });
@@ -202,10 +206,67 @@ class CellBuilder {
   }
 
  private:
+  // The seeds other than i within kReach of its seed x, in no particular order.
+  void gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const {
+    const double reach2 = reach_ * reach_;
+    const BackgroundGrid& g = sample_.grid;
+    int ci, cj, ck;
+    g.locate(x, ci, cj, ck);
+    const int64_t slot = g.index(ci, cj, ck) - sample_.cube_offset;
+    const int s = stencil_span_;
+    if (ci >= s && ci + s < g.nx && cj >= s && cj + s < g.ny && slot >= stencil_reach_ &&
+        slot + stencil_reach_ < int64_t(sample_.cube_seed.size())) {
+      // Most seeds: every cube within reach of the seed's cube, read through index offsets
+      // without a branch per cube (six in seven are empty, which a branch mispredicts), then the
+      // seeds within reach kept without a branch per seed.
+      const int32_t* at = sample_.cube_seed.data() + slot;
+      int32_t found[kMaxStencil];
+      int n = 0;
+      for (int64_t off : stencil_offsets_) {
+        const int32_t q = at[off];
+        found[n] = q;
+        n += q != -1;
+      }
+      nb.resize(size_t(n));
+      size_t kept = 0;
+      for (int k = 0; k < n; ++k) {
+        const int32_t j = found[k];
+        if (j < 0) continue;  // several protection seeds: below
+        const double d2 = norm2(sample_.seeds[j] - x);
+        nb[kept] = {d2, j};
+        kept += (d2 <= reach2) & (j != i);
+      }
+      nb.resize(kept);
+      for (int k = 0; k < n; ++k)
+        if (found[k] < -1)
+          for (int32_t e = sample_.cube_extra_begin[-2 - found[k]]; e < sample_.cube_extra_begin[-1 - found[k]]; ++e) {
+            const int32_t j = sample_.cube_extra[e];
+            const double d2 = norm2(sample_.seeds[j] - x);
+            if (j != i && d2 <= reach2) nb.push_back({d2, j});
+          }
+      return;
+    }
+    nb.clear();
+    g.for_cubes_near(x, reach_, [&](int64_t c) {
+      sample_.for_seeds_in_cube(c, [&](int32_t j) {
+        if (j == i) return;
+        const double d2 = norm2(sample_.seeds[j] - x);
+        if (d2 <= reach2) nb.push_back({d2, j});
+      });
+    });
+  }
+
   static bool usable(ConvexCell::Clip c) { return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged; }
   const Domain& domain_;
   const Sample& sample_;
   double r_, eps_;
+  // Voronoi neighbours are at most 2r apart (Lemma 1); the cubes that may hold one of a seed in
+  // a given cube, as index offsets, and how far they reach along an axis and in the index.
+  static constexpr int kMaxStencil = 729;
+  double reach_ = 0;
+  std::vector<int64_t> stencil_offsets_;
+  int stencil_span_ = 0;
+  int64_t stencil_reach_ = 0;
   std::optional<SurfaceGenerators> generators_;
   std::optional<TriangleGrid> triangles_;
 };
