@@ -143,12 +143,12 @@ class Sampler {
     return g.origin + Vec3{i * g.side, j * g.side, k * g.side};
   }
 
-  // The entries (cube_seed) of base cube b's stencil cubes that hold seeds, in stencil order,
-  // into `found` (room for kStencilSize); -1 when the stencil leaves the grid or the window, and
-  // the caller walks it cube by cube. Most cubes are two or more cubes from the sides: their
-  // stencil is read through index offsets without a branch per cube (nine in ten are empty,
-  // which a branch mispredicts: 15% of the sampling time at 3e5 seeds).
-  // The stencil's first kNearestCubes entries are the cubes that share a face, edge or corner.
+  // The entries (cube_seed) of base cube b's stencil cubes [first, last) that hold seeds, in
+  // stencil order, into `found` (room for kStencilSize); -1 when the stencil leaves the grid or
+  // the window, and the caller walks it cube by cube. Most cubes are two or more cubes from the
+  // sides: their stencil is read through index offsets without a branch per cube (nine in ten
+  // are empty, which a branch mispredicts: 15% of the sampling time at 3e5 seeds). The first
+  // kNearestCubes entries of the stencil are the cubes that share a face, edge or corner with b.
   static constexpr int kStencilSize = 116, kNearestCubes = 26;
   int occupied_stencil(int64_t b, int i0, int j0, int32_t* found, int first = 0, int last = kStencilSize) const {
     const auto& g = s_.grid;
@@ -387,10 +387,10 @@ class Sampler {
     return true;
   }
 
-  // Is child (dx, dy, dz) of the parent described by `cc`, in no single ball (children_in_one_ball),
-  // inside the union of the r-balls around `near`? When the corners' nearest seeds are two or
-  // three seeds S, exact for the balls of S: the cube is
-  // cut into convex pieces by S's Voronoi diagram, and a piece is inside its seed's ball iff its
+  // Is child (dx, dy, dz) of the parent described by `cc`, in no single ball (see
+  // children_in_one_ball), inside the union of the r-balls around `near`? When the corners'
+  // nearest seeds are two or three seeds S, exact for the balls of S: the cube is cut into
+  // convex pieces by S's Voronoi diagram, and a piece is inside its seed's ball iff its
   // vertices are. They are the cube's corners (each within r of its nearest seed, checked
   // first), the crossings of the cube's edges with a bisector of two seeds of S that are not
   // nearer the third, and, for three seeds, the crossings of the cube's faces with the line

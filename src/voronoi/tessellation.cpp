@@ -206,7 +206,7 @@ class CellBuilder {
   }
 
  private:
-  // The seeds other than i within kReach of its seed x, in no particular order.
+  // The seeds other than i within reach_ (2r, Lemma 1) of its seed x, in no particular order.
   void gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const {
     const double reach2 = reach_ * reach_;
     const BackgroundGrid& g = sample_.grid;
