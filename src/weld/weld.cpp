@@ -168,7 +168,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     if (!k.planes->empty()) c.keeper = k.vertex;
   }
   for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
-  // Where vertex v's cluster goes (v itself, if it is in none of more than one vertex).
+  // Where vertex v's cluster goes; v's own place if its cluster is v alone.
   const auto destination = [&](int32_t v) {
     const int32_t root = member[v] ? uf.find(v) : v;
     const auto it = root == v && !member[v] ? clusters.end() : clusters.find(root);
