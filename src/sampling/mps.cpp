@@ -156,27 +156,12 @@ class Sampler {
     if (!(i0 >= 2 && i0 + 2 < g.nx && j0 >= 2 && j0 + 2 < g.ny && slot >= span &&
           slot + span < int64_t(s_.cube_seed.size())))
       return -1;
-    const int32_t* at = s_.cube_seed.data() + slot;
-    int n = 0;
-    for (int e = first; e < last; ++e) {
-      const int32_t q = at[stencil_offsets_[e]];
-      found[n] = q;
-      n += q != -1;
-    }
-    return n;
+    return s_.occupied_entries(slot, std::span(stencil_offsets_).subspan(first, last - first), found);
   }
   // Calls f(position) for the seeds of the entries occupied_stencil() found.
   template <class F>
   void for_found_seeds(const int32_t* found, int n, F&& f) const {
-    for (int k = 0; k < n; ++k) {
-      const int32_t q = found[k];
-      if (q >= 0) {
-        f(s_.seeds[q]);
-        continue;
-      }
-      for (int32_t e = s_.cube_extra_begin[-2 - q]; e < s_.cube_extra_begin[-1 - q]; ++e)  // protection seeds
-        f(s_.seeds[s_.cube_extra[e]]);
-    }
+    for (int k = 0; k < n; ++k) s_.for_seeds_of_entry(found[k], [&](int32_t id) { f(s_.seeds[id]); });
   }
 
   // Seeds within r of base cube b (which holds no seed), read from the grid itself through the

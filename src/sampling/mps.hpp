@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "common/background_grid.hpp"
@@ -32,15 +33,32 @@ struct Sample {
   std::vector<Protected> protected_seeds;
   SamplingStats stats;
 
+  // Calls f(seed index) for every seed of a cube_seed entry.
+  template <class F>
+  void for_seeds_of_entry(int32_t q, F&& f) const {
+    if (q >= 0) return f(q);
+    if (q == -1) return;
+    for (int32_t k = cube_extra_begin[-2 - q]; k < cube_extra_begin[-1 - q]; ++k) f(cube_extra[k]);
+  }
   // Calls f(seed index) for every seed in base cube c.
   template <class F>
   void for_seeds_in_cube(int64_t c, F&& f) const {
     c -= cube_offset;
     if (c < 0 || c >= int64_t(cube_seed.size())) return;
-    const int32_t q = cube_seed[c];
-    if (q >= 0) return f(q);
-    if (q == -1) return;
-    for (int32_t k = cube_extra_begin[-2 - q]; k < cube_extra_begin[-1 - q]; ++k) f(cube_extra[k]);
+    for_seeds_of_entry(cube_seed[c], f);
+  }
+  // The cube_seed entries at slot + offset for each of `offsets` that hold seeds, in order, into
+  // `found` (room for all); their count. The caller keeps every slot + offset inside cube_seed.
+  // Read without a branch per cube: most cubes are empty, and a branch on it mispredicts.
+  int occupied_entries(int64_t slot, std::span<const int64_t> offsets, int32_t* found) const {
+    const int32_t* at = cube_seed.data() + slot;
+    int n = 0;
+    for (int64_t off : offsets) {
+      const int32_t q = at[off];
+      found[n] = q;
+      n += q != -1;
+    }
+    return n;
   }
   const Protected* protection_of(int32_t seed) const {
     auto it = std::lower_bound(protected_seeds.begin(), protected_seeds.end(), seed,

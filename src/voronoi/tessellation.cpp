@@ -125,8 +125,10 @@ class CellBuilder {
           if (gap(di) * gap(di) + gap(dj) * gap(dj) + gap(dk) * gap(dk) >= reach_ * reach_) continue;
           stencil_offsets_.push_back((int64_t(dk) * g.ny + dj) * g.nx + di);
         }
-    if (stencil_offsets_.size() > size_t(kMaxStencil)) stencil_offsets_.clear(), stencil_span_ = 1 << 30;
-    else stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
+    // Cubes of side r / sqrt(3) and a reach of 2r: four cubes each way, at most 9^3 of them.
+    if (stencil_offsets_.size() > size_t(kMaxStencil))
+      fail(ErrorKind::Internal, fmt::format("the cells' grid stencil has {} cubes", stencil_offsets_.size()));
+    stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
     if (!domain.convex) {
       generators_.emplace(domain);
       triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
@@ -209,6 +211,10 @@ class CellBuilder {
   // The seeds other than i within reach_ (2r, Lemma 1) of its seed x, in no particular order.
   void gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const {
     const double reach2 = reach_ * reach_;
+    auto keep_if_in_reach = [&](int32_t j) {
+      const double d2 = norm2(sample_.seeds[j] - x);
+      if (j != i && d2 <= reach2) nb.push_back({d2, j});
+    };
     const BackgroundGrid& g = sample_.grid;
     int ci, cj, ck;
     g.locate(x, ci, cj, ck);
@@ -219,14 +225,8 @@ class CellBuilder {
       // Most seeds: every cube within reach of the seed's cube, read through index offsets
       // without a branch per cube (six in seven are empty, which a branch mispredicts), then the
       // seeds within reach kept without a branch per seed.
-      const int32_t* at = sample_.cube_seed.data() + slot;
       int32_t found[kMaxStencil];
-      int n = 0;
-      for (int64_t off : stencil_offsets_) {
-        const int32_t q = at[off];
-        found[n] = q;
-        n += q != -1;
-      }
+      const int n = sample_.occupied_entries(slot, stencil_offsets_, found);
       nb.resize(size_t(n));
       size_t kept = 0;
       for (int k = 0; k < n; ++k) {
@@ -238,22 +238,11 @@ class CellBuilder {
       }
       nb.resize(kept);
       for (int k = 0; k < n; ++k)
-        if (found[k] < -1)
-          for (int32_t e = sample_.cube_extra_begin[-2 - found[k]]; e < sample_.cube_extra_begin[-1 - found[k]]; ++e) {
-            const int32_t j = sample_.cube_extra[e];
-            const double d2 = norm2(sample_.seeds[j] - x);
-            if (j != i && d2 <= reach2) nb.push_back({d2, j});
-          }
+        if (found[k] < -1) sample_.for_seeds_of_entry(found[k], keep_if_in_reach);
       return;
     }
     nb.clear();
-    g.for_cubes_near(x, reach_, [&](int64_t c) {
-      sample_.for_seeds_in_cube(c, [&](int32_t j) {
-        if (j == i) return;
-        const double d2 = norm2(sample_.seeds[j] - x);
-        if (d2 <= reach2) nb.push_back({d2, j});
-      });
-    });
+    g.for_cubes_near(x, reach_, [&](int64_t c) { sample_.for_seeds_in_cube(c, keep_if_in_reach); });
   }
 
   static bool usable(ConvexCell::Clip c) { return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged; }
