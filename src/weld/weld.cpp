@@ -168,10 +168,11 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     if (!k.planes->empty()) c.keeper = k.vertex;
   }
   for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
-  // Where vertex v's cluster goes; v's own place if its cluster is v alone.
-  const auto destination = [&](int32_t v) {
-    const int32_t root = member[v] ? uf.find(v) : v;
-    const auto it = root == v && !member[v] ? clusters.end() : clusters.find(root);
+  // A vertex stays (with a new id) unless welding merged it into another, its cluster's root.
+  const auto stays = [&](size_t v) { return !member[v] || uf.find(int32_t(v)) == int32_t(v); };
+  // Where a staying vertex goes: its cluster's target, or its own place if it is alone.
+  const auto destination = [&](int32_t root) {
+    const auto it = member[root] ? clusters.find(root) : clusters.end();
     return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
   };
 
@@ -180,7 +181,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   std::vector<int32_t> new_id(np, -1);
   int32_t kept = 0;
   for (size_t v = 0; v < np; ++v)
-    if (!member[v] || uf.find(int32_t(v)) == int32_t(v)) new_id[v] = kept++;
+    if (stays(v)) new_id[v] = kept++;
   for (size_t v = 0; v < np; ++v) {
     if (!member[v]) continue;
     const int32_t root = uf.find(int32_t(v));
@@ -188,10 +189,8 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     st.max_displacement = std::max(st.max_displacement, norm(destination(root) - m.points[v]));
   }
   // In place: new_id[v] <= v, and point v is read before any later one is written over it.
-  for (size_t v = 0; v < np; ++v) {
-    if (new_id[v] < 0 || (member[v] && uf.find(int32_t(v)) != int32_t(v))) continue;
-    m.points[new_id[v]] = member[v] ? destination(int32_t(v)) : m.points[v];
-  }
+  for (size_t v = 0; v < np; ++v)
+    if (stays(v)) m.points[new_id[v]] = destination(int32_t(v));
   m.points.resize(size_t(kept));
 
   // Faces. Only faces with a member vertex can lose vertices (or vanish, with fewer than three
