@@ -9,6 +9,7 @@
 
 #include "common/closed_edges.hpp"
 #include "common/surface_locator.hpp"
+#include "common/tolerances.hpp"
 #include "common/union_find.hpp"
 
 namespace froth {
@@ -17,11 +18,15 @@ SurfaceGenerators::SurfaceGenerators(const Domain& d) {
   const auto& T = d.surface.triangles;
   planes = int32_t(d.planes.size());
   std::map<std::pair<int32_t, int32_t>, int32_t> id;
+  std::vector<int32_t> first_plane;  // of the first triangle met on each edge
   triangle_edges.resize(T.size());
   for (size_t t = 0; t < T.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const int32_t a = T[t][k], b = T[t][(k + 1) % 3];
-      triangle_edges[t][k] = id.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(id.size())).first->second;
+      const auto [it, added] = id.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(id.size()));
+      triangle_edges[t][k] = it->second;
+      if (added) first_plane.push_back(d.triangle_plane[t]), seam.push_back(0);
+      else seam[size_t(it->second)] = first_plane[size_t(it->second)] == d.triangle_plane[t];
     }
   edges = int32_t(id.size());
 }
@@ -257,7 +262,8 @@ CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens, co
 CellClipper::~CellClipper() = default;
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
-                                      const std::vector<Vec3>& seeds, ClippedCell& out, std::string& error) {
+                                      const std::vector<Vec3>& seeds, ClippedCell& out, int32_t& facet_cut,
+                                      std::string& error) {
   const SurfaceLocator& locator = *domain_.locator;
   const TriangleSurface& S = domain_.surface;
   const size_t nv = cell.vertex_count(), nf = cell.face_count();
@@ -268,6 +274,29 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   std::vector<int32_t>& tris = w.tris;
   triangles_.triangles_near(x + lo, x + hi, tris);
   if (tris.empty()) return Result::Inside;
+
+  // Every triangle that meets the cell's box lies in one facet plane (half the tube's border
+  // cells): then the surface within the box is that plane's whole section of it (the surface is
+  // closed and does not cross itself, and a triangle across the edge of the plane's region
+  // would meet the box too), so V ∩ D is V below the plane. A protection seed lies on the
+  // surface, next to a reflex edge: never here.
+  if (anchor == Vec3{} && std::all_of(tris.begin(), tris.end(), [&](int32_t t) {
+        return domain_.triangle_plane[t] == domain_.triangle_plane[tris[0]];
+      })) {
+    const int32_t facet = domain_.triangle_plane[tris[0]];
+    const Plane& P = domain_.planes[facet];
+    const double offset = P.offset - dot(P.normal, x), margin = tol::clear_of_facet(half, domain_.bounds.diagonal());
+    bool clear = true, any_above = false;
+    for (size_t v = 0; v < nv; ++v) {
+      const double s = dot(P.normal, cell.vertex(v)) - offset;
+      clear &= std::abs(s) > margin;
+      any_above |= s > 0;
+    }
+    if (clear) {
+      facet_cut = facet;
+      return any_above ? Result::HalfSpace : Result::Inside;
+    }
+  }
 
   // The planes of V's faces, computed exactly as the cell builder cut them.
   static const Vec3 cube_normals[6] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
@@ -385,6 +414,9 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     }
   }
 
+  // No piece of the surface lies in V: V is whole, inside D like its anchor.
+  if (border.empty()) return Result::Inside;
+
   // 2. Which of V's vertices are inside: parity from the anchor to one, then along V's edges,
   // toggling at each crossing.
   std::vector<Names>& vnames = w.vnames;
@@ -485,6 +517,20 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (const auto& loop : outer) add(loop);
     return true;
   };
+  // Where a seam crosses a face of V the loops only pass straight on: such a point is dropped
+  // (a cell cut by one facet plane the quick way has none, and its neighbours must agree with
+  // it). Before any face is cut around a hole, so that no bridge ends there.
+  auto drop_seam_points = [&](Loops& ls) {
+    size_t to = 0, from = 0;
+    for (size_t k = 0; k < ls.size(); ++k) {
+      for (; from < ls.begin[k + 1]; ++from) {
+        const Names& name = keys[ls.ids[from]];
+        if (!(name.n == 2 && (gens_.is_seam(name.gen[0]) || gens_.is_seam(name.gen[1])))) ls.ids[to++] = ls.ids[from];
+      }
+      ls.begin[k + 1] = uint32_t(to);
+    }
+    ls.ids.resize(to);
+  };
   std::vector<int32_t>& along = w.along;
   std::vector<Edge>& segs = w.segs;
   for (size_t f = 0; f < nf; ++f) {
@@ -511,6 +557,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
     if (!chain_loops(segs, pts.size(), loops, w.chain_leaving, w.chain_used))
       return fail_with(fmt::format("the face on generator {} does not close", g));
+    drop_seam_points(loops);
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
     // in-plane frame is this one mirrored), so the faces still match.
@@ -537,6 +584,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (kept.empty()) continue;
     if (!chain_loops(kept, pts.size(), loops, w.chain_leaving, w.chain_used))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
+    drop_seam_points(loops);
     if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
       return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
                                    "much smaller than r)",

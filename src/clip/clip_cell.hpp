@@ -5,7 +5,8 @@
 // Conformity comes from names, as for convex cells: every vertex is named by the generators that
 // meet there, and every generator is a seed, a facet plane, an input edge or an input vertex:
 //   Voronoi vertex {i,j,k,l}; Voronoi edge through a facet {i,j,k,F}; Voronoi face through an
-//   input edge {i,j,E}; input vertex inside the cell {i,v}.
+//   input edge {i,j,E} (not a seam between two triangles of one facet plane: the faces go
+//   straight on there, and no cell keeps a point); input vertex inside the cell {i,v}.
 // Two cells that share a vertex compute the same name for it, and the same faces on their
 // common bisector, because each is the bisector polygon cut by the same cross-section of D.
 #pragma once
@@ -24,10 +25,17 @@ namespace froth {
 struct SurfaceGenerators {
   int32_t planes = 0, edges = 0;
   std::vector<std::array<int32_t, 3>> triangle_edges;  // edge ids of (t0,t1), (t1,t2), (t2,t0)
+  // Edges between two triangles of one facet plane: where one crosses a cell face it makes no
+  // corner, only a point in the middle of a straight edge, which no cell keeps.
+  std::vector<uint8_t> seam;
   explicit SurfaceGenerators(const Domain& d);
   int32_t plane(int32_t f) const { return -(f + 1); }
   int32_t edge(int32_t e) const { return -(planes + 1 + e); }
   int32_t vertex(int32_t v) const { return -(planes + edges + 1 + v); }
+  bool is_seam(int32_t generator) const {
+    const int32_t e = -generator - planes - 1;
+    return e >= 0 && e < edges && seam[size_t(e)];
+  }
 };
 
 // A clipped cell, with the same accessors as ConvexCell for assembly.
@@ -57,15 +65,16 @@ class CellClipper {
   ~CellClipper();
 
   // TooCoarse: the domain has features smaller than r here (a thin wall, a narrow gap); the
-  // error text says which.
-  enum class Result { Inside, Clipped, TooCoarse };
+  // error text says which. HalfSpace: the surface near the cell is one facet plane, `facet`, and
+  // V ∩ D is V cut by it: the caller cuts it as it cuts a convex domain's cells.
+  enum class Result { Inside, Clipped, HalfSpace, TooCoarse };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
   // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
   // inside the domain: the seed itself, or a point just off the surface for a protection seed.
   // Inside: the cell does not meet the surface and is whole. Throws nothing; returns an error
   // text in `error` (then the result is meaningless).
   Result clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half, const std::vector<Vec3>& seeds,
-              ClippedCell& out, std::string& error);
+              ClippedCell& out, int32_t& facet, std::string& error);
 
  private:
   struct Scratch;

@@ -8,6 +8,12 @@ namespace froth::tol {
 // relative to the seed, so round-off is ~1e-16 r; this leaves a wide margin).
 inline double on_plane(double r) { return 1e-11 * r; }
 
+// A cell near a single facet plane is cut by it the quick way, as a convex domain's cells are,
+// only if none of its vertices is this close to the plane: then the general clipper, which its
+// neighbours may use, makes the same cut. The general clipper's round-off grows with the
+// coordinates of long input triangles, hence the domain term. `size`: the cell's half-width.
+inline double clear_of_facet(double size, double domain_diagonal) { return 1e-9 * size + 1e-12 * domain_diagonal; }
+
 // Facet planes whose normals and offsets agree to this are one plane of the domain.
 inline double coplanar(double domain_diagonal) { return 1e-9 * domain_diagonal; }
 

@@ -186,8 +186,15 @@ class CellBuilder {
       // A protection seed lies on the surface: inside tests start from a point just off it.
       const Sample::Protected* p = sample_.protection_of(i);
       const Vec3 anchor = p ? 1e-6 * r_ * p->inward : Vec3{};
-      const CellClipper::Result result = clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, error);
+      int32_t facet = -1;
+      const CellClipper::Result result =
+          clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
       if (result == CellClipper::Result::TooCoarse) return {error, ErrorKind::Usage};
+      if (result == CellClipper::Result::HalfSpace) {
+        const Plane& pl = domain_.planes[size_t(facet)];
+        if (!usable(cell.clip(pl.normal, pl.offset - dot(pl.normal, x), plane_generator(facet), eps_)))
+          return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
+      }
       if (result == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
         for (size_t f = 0; f < clipped.face_count(); ++f)
