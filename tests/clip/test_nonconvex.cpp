@@ -1,7 +1,7 @@
 // Non-convex domains (issue: clipped, star-shaped cells): on the shared models and on shapes made
 // here, with welding off, every guarantee that applies: empty disk (r between free seeds and
 // from them to protection seeds, r_e = r/sqrt(2) between protection seeds), maximality
-// (Lemma 1), closed cells and matched faces, volumes summing to the enclosed volume and border
+// (Lemma 1), closed cells and matched faces, no face corner on a seam, volumes summing to the enclosed volume and border
 // faces to the surface area, star-shaped cells, reflex edges inside edge and vertex cells, and
 // the Lemma 2 / 6 bounds for interior cells.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -88,6 +88,27 @@ void add_box(TriangleSurface& s, Vec3 lo, Vec3 hi, bool inward) {
   }
 }
 
+// A tube: the prism between two regular n-gons (radii outer > inner) from z0 to z1, its walls
+// and end annuli made of quads split in two (so each quad has a seam).
+TriangleSurface tube(int n, double outer, double inner, double z0, double z1) {
+  TriangleSurface s;
+  for (double rad : {outer, inner})
+    for (double z : {z0, z1})
+      for (int k = 0; k < n; ++k) s.vertices.push_back({rad * std::cos(2 * M_PI * k / n), rad * std::sin(2 * M_PI * k / n), z});
+  auto at = [&](int ring, int k) { return ring * n + k % n; };  // rings: outer z0, outer z1, inner z0, inner z1
+  auto quad = [&](int a, int b, int c, int d) {  // counter-clockwise seen from outside the solid
+    s.triangles.push_back({a, b, c});
+    s.triangles.push_back({a, c, d});
+  };
+  for (int k = 0; k < n; ++k) {
+    quad(at(0, k), at(0, k + 1), at(1, k + 1), at(1, k));  // outer wall, facing away from the axis
+    quad(at(2, k), at(3, k), at(3, k + 1), at(2, k + 1));  // inner wall, facing the axis
+    quad(at(0, k), at(2, k), at(2, k + 1), at(0, k + 1));  // bottom, facing -z
+    quad(at(1, k), at(1, k + 1), at(3, k + 1), at(3, k));  // top
+  }
+  return s;
+}
+
 std::vector<std::pair<double, double>> star(int points, double outer, double inner) {
   std::vector<std::pair<double, double>> ring;
   for (int k = 0; k < 2 * points; ++k) {
@@ -107,6 +128,8 @@ Domain shape(const std::string& name) {
                 0, 4);
   } else if (name == "star-prism") {
     s = extrude(star(5, 2, 0.9), 0, 1.5);
+  } else if (name == "tube") {  // its inner wall's edges are reflex features (45 degrees)
+    s = tube(8, 2, 1, 0, 3);
   } else if (name == "hollow-box") {
     add_box(s, {0, 0, 0}, {3, 3, 3}, false);
     add_box(s, {1, 1, 1}, {2, 2, 2}, false);  // wound outward like the outer box: nesting decides
@@ -369,7 +392,8 @@ INSTANTIATE_TEST_SUITE_P(
     Shapes, NonConvex,
     testing::Values(Case{"L-block", 1.0 / 20, 1}, Case{"L-block", 1.0 / 40, 2}, Case{"I-beam", 1.0 / 20, 1},
                     Case{"I-beam", 1.0 / 40, 3}, Case{"star-prism", 1.0 / 20, 1}, Case{"star-prism", 1.0 / 40, 4},
-                    Case{"hollow-box", 1.0 / 20, 1}, Case{"hollow-box", 1.0 / 40, 5},
+                    Case{"hollow-box", 1.0 / 20, 1}, Case{"hollow-box", 1.0 / 40, 5}, Case{"tube", 1.0 / 20, 1},
+                    Case{"tube", 1.0 / 40, 6},
                     Case{"7_8ths_cube.stl", 1.0 / 20, 1}, Case{"7_8ths_cube.stl", 1.0 / 40, 2},
                     Case{"hollow_sphere.off", 1.0 / 20, 1}, Case{"hollow_sphere.off", 1.0 / 40, 2},
                     Case{"torus.STL", 1.0 / 20, 1}, Case{"torus.STL", 1.0 / 40, 2},
