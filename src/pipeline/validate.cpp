@@ -111,7 +111,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
   size_t twins = 0, toward_earlier = 0;
 #pragma omp parallel
   {
-    std::vector<uint64_t> edges;  // directed_edge_key of each face edge
+    EdgeUses edges;
 #pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive, twins, toward_earlier)
     for (size_t c = 0; c < m.cell_count(); ++c) {
       std::string problem;
@@ -119,7 +119,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
       for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
         int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
         for (int64_t k = b; k < e; ++k)
-          edges.push_back(directed_edge_key(uint32_t(m.face_vertices[k]), uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b])));
+          edges.add(uint32_t(m.face_vertices[k]), uint32_t(m.face_vertices[k + 1 < e ? k + 1 : b]));
         int32_t g = m.face_generator[f];
         if (g < 0 || is_other_piece_generator(g)) continue;  // a border face, or one matched by another piece
         if (size_t(g) < c) {
@@ -135,7 +135,7 @@ MeshCheck check_mesh(const PolyMesh& m) {
           if (problem.empty()) problem = fmt::format("cell {}: face toward cell {} has no identical twin there", c, g);
         }
       }
-      if (!each_edge_once_each_way(edges)) {
+      if (!edges.each_once_each_way()) {
         ++open;
         if (problem.empty()) problem = fmt::format("cell {}: faces do not close", c);
       }

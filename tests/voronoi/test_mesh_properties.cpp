@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "common/closed_edges.hpp"
 #include "common/test_support.hpp"
 
 namespace froth {
@@ -119,6 +120,32 @@ TEST(MeshErrors, BadParametersAreUsageErrors) {
 
 namespace froth {
 namespace {
+
+// The hashed edge count agrees with sorting on prisms over n-gons, small and large enough to
+// grow the table, closed or with a face missing, reversed or given twice, reused after clear().
+TEST(EdgeUses, TellsClosedSurfacesLikeSorting) {
+  EdgeUses uses;
+  for (uint32_t n : {3u, 40u, 300u})
+    for (int defect = 0; defect < 4; ++defect) {
+      std::vector<std::vector<uint32_t>> faces;  // bottom 0..n-1, top n..2n-1
+      std::vector<uint32_t> bottom, top;
+      for (uint32_t k = 0; k < n; ++k) bottom.push_back(n - 1 - k), top.push_back(n + k);
+      faces.push_back(bottom), faces.push_back(top);
+      for (uint32_t k = 0; k < n; ++k) faces.push_back({k, (k + 1) % n, n + (k + 1) % n, n + k});
+      if (defect == 1) faces.pop_back();
+      if (defect == 2) std::reverse(faces[2].begin(), faces[2].end());
+      if (defect == 3) faces.push_back(faces[2]);
+      uses.clear();
+      std::vector<uint64_t> keys;
+      for (const auto& f : faces)
+        for (size_t k = 0; k < f.size(); ++k) {
+          uses.add(f[k], f[(k + 1) % f.size()]);
+          keys.push_back(directed_edge_key(f[k], f[(k + 1) % f.size()]));
+        }
+      EXPECT_EQ(uses.each_once_each_way(), defect == 0) << n << "-gon prism, defect " << defect;
+      EXPECT_EQ(each_edge_once_each_way(keys), defect == 0) << n << "-gon prism, defect " << defect;
+    }
+}
 
 // The final check must catch what it promises to catch.
 TEST(MeshCheckDetects, UnmatchedFaceOpenCellAndNegativeVolume) {
