@@ -406,12 +406,18 @@ class Sampler {
   // clipped to P. A cube cut by the boundary is often covered where it is inside the domain while
   // its part outside is not, and covered() alone keeps refining it (half of the cut sub-cubes
   // of the tube: measured with 256 random points each).
+  // A band around facet plane `pl` wider than the round-off of its signed distances at points
+  // of the box [lo, lo + h]^3 (the plane is fitted to its triangles' corners, which lie on it
+  // exactly).
+  static double round_off_band(const Plane& pl, Vec3 lo, double h) {
+    return 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
+  }
+
   bool covered_below_plane(const std::vector<Vec3>& near, CornerCache& cc, int dx, int dy, int dz,
                            const Plane& pl) const {
     const Vec3 lo = cc.point(((dz * 3) + dy) * 3 + dx);
     const double h = cc.h;
-    const double margin = 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
-    const Plane below{pl.normal, pl.offset + margin};  // P's cutting plane
+    const Plane below{pl.normal, pl.offset + round_off_band(pl, lo, h)};  // P's cutting plane
     Vec3 corner[8];
     double sd[8];
     int lattice[8];  // the corners' points in the parent's lattice
@@ -498,6 +504,11 @@ class Sampler {
 
   // Is p, a point of the boundary cube in `slot`, inside the domain?
   bool inside_domain(Vec3 p, size_t slot) const {
+    if (!domain_.convex && boundary_facet_[slot] >= 0) {  // the plane decides, away from it
+      const Plane& P = domain_.planes[boundary_facet_[slot]];
+      const double s = P.signed_distance(p);
+      if (std::abs(s) > round_off_band(P, p, s_.grid.side)) return s < 0;
+    }
     if (!domain_.convex) {
       // Parity of crossings from the cube's reference point; only the cube's triangles can
       // cross the segment, which stays in the cube.
@@ -523,6 +534,17 @@ class Sampler {
       const int cls = classify_box(lo, h, cutting_planes(slot), nullptr, &plane);
       if (cls != 0) plane = -1;
       return cls;
+    }
+    if (const int32_t facet = boundary_facet_[slot]; facet >= 0) {
+      // The plane alone classifies the sub-cube; within a round-off band of it, it is cut.
+      const Plane& P = domain_.planes[facet];
+      const double s = P.signed_distance(lo + Vec3{h / 2, h / 2, h / 2}),
+                   reach = h / 2 * (std::abs(P.normal.x) + std::abs(P.normal.y) + std::abs(P.normal.z)),
+                   band = round_off_band(P, lo, h);
+      if (s - reach > band) return -1;
+      if (s + reach < -band) return 1;
+      plane = facet;
+      return 0;
     }
     const Vec3 hi = lo + Vec3{h, h, h};
     int32_t first = -1;
@@ -684,6 +706,13 @@ class Sampler {
       std::sort(all_refs.begin(), all_refs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
       boundary_ref_.resize(all_refs.size());
       for (size_t k = 0; k < all_refs.size(); ++k) boundary_ref_[k] = all_refs[k].second;  // in boundary_base_ order
+      boundary_facet_.assign(boundary_base_.size(), -1);
+      for (size_t slot = 0; slot < boundary_base_.size(); ++slot) {
+        const auto cut = cutting_planes(slot);
+        const int32_t facet = domain_.triangle_plane[cut[0]];
+        if (std::all_of(cut.begin(), cut.end(), [&](int32_t t) { return domain_.triangle_plane[t] == facet; }))
+          boundary_facet_[slot] = facet;
+      }
     }
     return concatenate(cubes);
   }
@@ -1022,6 +1051,11 @@ class Sampler {
   std::vector<uint32_t> boundary_base_, boundary_begin_;
   std::vector<int32_t> boundary_planes_;
   std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
+  // Non-convex domains, per boundary cube: the facet plane of all the triangles that meet it,
+  // or -1. The surface within the cube is then that plane's whole section of it (the surface is
+  // closed and does not cross itself, and a triangle across the edge of the plane's region would
+  // meet the cube too), so the plane alone tells a sub-cube's or a dart's side.
+  std::vector<int32_t> boundary_facet_;
   double r_, r2_;
   uint64_t seed_;
   CounterRng rng_;
