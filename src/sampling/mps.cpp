@@ -398,6 +398,13 @@ class Sampler {
     return sites_cover(near, sites, edges, 12, corner[0], corner[7], nullptr);
   }
 
+  // A band around facet plane `pl` wider than the round-off of its signed distances at points
+  // of the box [lo, lo + h]^3 (the plane is fitted to its triangles' corners, which lie on it
+  // exactly).
+  static double round_off_band(const Plane& pl, Vec3 lo, double h) {
+    return 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
+  }
+
   // Is the part of child (dx, dy, dz) on the inner side of `pl` inside the union of the r-balls
   // around `near`? The same exact test as covered() on the convex piece P = child ∩ {pl <= 0}
   // (made a round-off margin larger, so that it holds the domain's part): P's vertices are the
@@ -406,13 +413,6 @@ class Sampler {
   // clipped to P. A cube cut by the boundary is often covered where it is inside the domain while
   // its part outside is not, and covered() alone keeps refining it (half of the cut sub-cubes
   // of the tube: measured with 256 random points each).
-  // A band around facet plane `pl` wider than the round-off of its signed distances at points
-  // of the box [lo, lo + h]^3 (the plane is fitted to its triangles' corners, which lie on it
-  // exactly).
-  static double round_off_band(const Plane& pl, Vec3 lo, double h) {
-    return 1e-9 * (std::abs(pl.offset) + h + std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z)}));
-  }
-
   bool covered_below_plane(const std::vector<Vec3>& near, CornerCache& cc, int dx, int dy, int dz,
                            const Plane& pl) const {
     const Vec3 lo = cc.point(((dz * 3) + dy) * 3 + dx);
