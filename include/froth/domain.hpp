@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,18 @@ struct Domain {
   std::shared_ptr<const SurfaceLocator> locator;  // inside tests and nearby triangles
 
   bool contains(Vec3 p) const;
+  // The facet plane of all of `triangles`, or -1 if they lie in several (or there are none).
+  // When they are all the triangles that meet a box, the surface within the box is that plane's
+  // whole section of it: the surface is closed and does not cross itself, and a triangle across
+  // the edge of the plane's region would meet the box too. So the plane's sign alone tells the
+  // side of a point of the box.
+  int32_t facet_plane_of(std::span<const int32_t> triangles) const {
+    if (triangles.empty()) return -1;
+    const int32_t plane = triangle_plane[size_t(triangles[0])];
+    for (int32_t t : triangles)
+      if (triangle_plane[size_t(t)] != plane) return -1;
+    return plane;
+  }
 };
 
 struct DomainOptions {

@@ -276,14 +276,9 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   if (tris.empty()) return Result::Inside;
 
   // Every triangle that meets the cell's box lies in one facet plane (half the tube's border
-  // cells): then the surface within the box is that plane's whole section of it (the surface is
-  // closed and does not cross itself, and a triangle across the edge of the plane's region
-  // would meet the box too), so V ∩ D is V below the plane. A protection seed lies on the
-  // surface, next to a reflex edge: never here.
-  if (anchor == Vec3{} && std::all_of(tris.begin(), tris.end(), [&](int32_t t) {
-        return domain_.triangle_plane[t] == domain_.triangle_plane[tris[0]];
-      })) {
-    const int32_t facet = domain_.triangle_plane[tris[0]];
+  // cells): then V ∩ D is V below the plane (Domain::facet_plane_of). A protection seed lies on
+  // the surface, next to a reflex edge: never here.
+  if (const int32_t facet = domain_.facet_plane_of(tris); anchor == Vec3{} && facet >= 0) {
     const Plane& P = domain_.planes[facet];
     const double offset = P.offset - dot(P.normal, x), margin = tol::clear_of_facet(half, domain_.bounds.diagonal());
     bool clear = true, any_above = false;

@@ -14,6 +14,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -471,17 +472,18 @@ class Sampler {
 
   // -1 outside, 0 cut by the boundary, 1 inside, with respect to the given planes; `cut`
   // (optional) receives the planes that cut the box, `first_cut` (optional) the first of them.
+  // A box within `band` of a plane counts as cut by it.
   template <class PlaneIds>
   int classify_box(Vec3 lo, double h, const PlaneIds& ids, std::vector<int32_t>* cut = nullptr,
-                   int32_t* first_cut = nullptr) const {
+                   int32_t* first_cut = nullptr, double band = 0) const {
     bool inside = true;
     for (int32_t id : ids) {
       const Plane& pl = domain_.planes[id];
       // Extreme corners of the box along the plane normal.
       double dmin = pl.signed_distance(lo), dmax = dmin;
       for (int a = 0; a < 3; ++a) (pl.normal[a] > 0 ? dmax : dmin) += h * pl.normal[a];
-      if (dmin > 0) return -1;
-      if (dmax > 0) {
+      if (dmin > band) return -1;
+      if (dmax > -band) {
         if (inside && first_cut) *first_cut = id;
         inside = false;
         if (cut) cut->push_back(id);
@@ -504,12 +506,12 @@ class Sampler {
 
   // Is p, a point of the boundary cube in `slot`, inside the domain?
   bool inside_domain(Vec3 p, size_t slot) const {
-    if (!domain_.convex && boundary_facet_[slot] >= 0) {  // the plane decides, away from it
-      const Plane& P = domain_.planes[boundary_facet_[slot]];
-      const double s = P.signed_distance(p);
-      if (std::abs(s) > round_off_band(P, p, s_.grid.side)) return s < 0;
-    }
     if (!domain_.convex) {
+      if (const int32_t facet = boundary_facet_[slot]; facet >= 0) {  // the plane decides, away from it
+        const Plane& P = domain_.planes[facet];
+        const double s = P.signed_distance(p);
+        if (std::abs(s) > round_off_band(P, p, s_.grid.side)) return s < 0;
+      }
       // Parity of crossings from the cube's reference point; only the cube's triangles can
       // cross the segment, which stays in the cube.
       const Reference& ref = boundary_ref_[slot];
@@ -536,15 +538,9 @@ class Sampler {
       return cls;
     }
     if (const int32_t facet = boundary_facet_[slot]; facet >= 0) {
-      // The plane alone classifies the sub-cube; within a round-off band of it, it is cut.
-      const Plane& P = domain_.planes[facet];
-      const double s = P.signed_distance(lo + Vec3{h / 2, h / 2, h / 2}),
-                   reach = h / 2 * (std::abs(P.normal.x) + std::abs(P.normal.y) + std::abs(P.normal.z)),
-                   band = round_off_band(P, lo, h);
-      if (s - reach > band) return -1;
-      if (s + reach < -band) return 1;
-      plane = facet;
-      return 0;
+      // The plane alone classifies the sub-cube (`plane` is set only when it cuts); within a
+      // round-off band of it, it is cut.
+      return classify_box(lo, h, std::array{facet}, nullptr, &plane, round_off_band(domain_.planes[facet], lo, h));
     }
     const Vec3 hi = lo + Vec3{h, h, h};
     int32_t first = -1;
@@ -706,13 +702,8 @@ class Sampler {
       std::sort(all_refs.begin(), all_refs.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
       boundary_ref_.resize(all_refs.size());
       for (size_t k = 0; k < all_refs.size(); ++k) boundary_ref_[k] = all_refs[k].second;  // in boundary_base_ order
-      boundary_facet_.assign(boundary_base_.size(), -1);
-      for (size_t slot = 0; slot < boundary_base_.size(); ++slot) {
-        const auto cut = cutting_planes(slot);
-        const int32_t facet = domain_.triangle_plane[cut[0]];
-        if (std::all_of(cut.begin(), cut.end(), [&](int32_t t) { return domain_.triangle_plane[t] == facet; }))
-          boundary_facet_[slot] = facet;
-      }
+      boundary_facet_.resize(boundary_base_.size());
+      for (size_t slot = 0; slot < boundary_base_.size(); ++slot) boundary_facet_[slot] = domain_.facet_plane_of(cutting_planes(slot));
     }
     return concatenate(cubes);
   }
@@ -1052,9 +1043,7 @@ class Sampler {
   std::vector<int32_t> boundary_planes_;
   std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
   // Non-convex domains, per boundary cube: the facet plane of all the triangles that meet it,
-  // or -1. The surface within the cube is then that plane's whole section of it (the surface is
-  // closed and does not cross itself, and a triangle across the edge of the plane's region would
-  // meet the cube too), so the plane alone tells a sub-cube's or a dart's side.
+  // or -1; the plane alone then tells a sub-cube's or a dart's side (Domain::facet_plane_of).
   std::vector<int32_t> boundary_facet_;
   double r_, r2_;
   uint64_t seed_;

@@ -159,13 +159,16 @@ class CellBuilder {
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
     cell.reset_cube(half);
     is_clipped = false;
+    // Keeps the part of the cell on the inner side of facet plane p.
+    auto cut_by_plane = [&](int32_t p) {
+      const Plane& pl = domain_.planes[size_t(p)];
+      return usable(cell.clip(pl.normal, pl.offset - dot(pl.normal, x), plane_generator(p), eps_));
+    };
     // A convex domain cuts the cell by its facet planes; any other clips it afterwards.
     for (size_t p = 0; p < (domain_.convex ? domain_.planes.size() : 0); ++p) {
       const Plane& pl = domain_.planes[p];
-      double gap = pl.offset - dot(pl.normal, x);
-      if (gap >= half * std::sqrt(3.0)) continue;
-      if (!usable(cell.clip(pl.normal, gap, plane_generator(int32_t(p)), eps_)))
-        return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
+      if (pl.offset - dot(pl.normal, x) >= half * std::sqrt(3.0)) continue;
+      if (!cut_by_plane(int32_t(p))) return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
     }
     gather_neighbours(i, x, nb);
     std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
@@ -190,11 +193,8 @@ class CellBuilder {
       const CellClipper::Result result =
           clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
       if (result == CellClipper::Result::TooCoarse) return {error, ErrorKind::Usage};
-      if (result == CellClipper::Result::HalfSpace) {
-        const Plane& pl = domain_.planes[size_t(facet)];
-        if (!usable(cell.clip(pl.normal, pl.offset - dot(pl.normal, x), plane_generator(facet), eps_)))
-          return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
-      }
+      if (result == CellClipper::Result::HalfSpace && !cut_by_plane(facet))
+        return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
       if (result == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
         for (size_t f = 0; f < clipped.face_count(); ++f)
