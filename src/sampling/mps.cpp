@@ -527,9 +527,8 @@ class Sampler {
   // classify_box for a sub-cube of the boundary cube in `slot`. When it is cut (0), `plane`
   // receives a facet plane whose inner side holds the domain's part of the sub-cube, or -1: for
   // a convex domain any plane that cuts it; otherwise the plane of the triangles that meet it, if
-  // they all lie in one. (Then they span the plane's section of the sub-cube: the surface is
-  // closed and does not cross itself, so an edge of theirs inside the sub-cube has its other
-  // triangle there too, and in the same plane.)
+  // they all lie in one (then they span the plane's section of the sub-cube:
+  // Domain::facet_plane_of).
   int classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const {
     plane = -1;
     if (domain_.convex) {
