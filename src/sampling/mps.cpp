@@ -273,6 +273,55 @@ class Sampler {
     return inside;
   }
 
+  // For every cube of the window, which of its eight children (bits as children_in_one_ball)
+  // lie in one seed's ball: the one-ball test of the first refinement, done from the seeds'
+  // side. A tenth of the cubes hold a seed, so marking the cubes around each seed reads a tenth
+  // of what gathering the seeds around each cube does. A child can lie in the ball of q only if
+  // its cube's centre is within r of q (a child's half diagonal is r/4, and its centre is r/4
+  // from the cube's), so of the 5^3 cubes around q's few are tested.
+  std::vector<uint8_t> mark_children_in_one_ball() const {
+    const auto& g = s_.grid;
+    const double h = g.side / 2;
+    std::vector<uint8_t> marks(s_.cube_seed.size(), 0);
+    const int64_t layer = int64_t(g.nx) * g.ny;
+    const int k_begin = int(s_.cube_offset / layer), k_end = k_begin + int(s_.cube_seed.size() / layer);
+#pragma omp parallel for schedule(static)
+    for (size_t id = 0; id < s_.seeds.size(); ++id) {
+      const Vec3 q = s_.seeds[id];
+      int c[3];
+      g.locate(q, c[0], c[1], c[2]);
+      // Per axis, for the cubes d = -2..2 steps from q's and each of their halves: the squared
+      // distance from q to the half's farther face (as in children_in_one_ball), and from q to
+      // the cube's centre.
+      double far2[3][5][2], centre2[3][5];
+      for (int a = 0; a < 3; ++a)
+        for (int d = 0; d < 5; ++d) {
+          const double x = q[a], l = g.origin[a] + (c[a] + d - 2) * g.side;
+          const double f0 = std::max(x - l, l + h - x), f1 = std::max(x - l - h, l + 2 * h - x);
+          far2[a][d][0] = f0 * f0;
+          far2[a][d][1] = f1 * f1;
+          centre2[a][d] = (x - l - h) * (x - l - h);
+        }
+      for (int dk = 0; dk < 5; ++dk) {
+        const int k = c[2] + dk - 2;
+        if (k < k_begin || k >= k_end) continue;
+        for (int dj = 0; dj < 5; ++dj) {
+          const int j = c[1] + dj - 2;
+          if (j < 0 || j >= g.ny || centre2[2][dk] + centre2[1][dj] > r2_) continue;
+          for (int di = 0; di < 5; ++di) {
+            const int i = c[0] + di - 2;
+            if (i < 0 || i >= g.nx || centre2[2][dk] + centre2[1][dj] + centre2[0][di] > r2_) continue;
+            uint32_t in = 0;
+            for (int ch = 0; ch < 8; ++ch)
+              in |= uint32_t(far2[0][di][ch & 1] + far2[1][dj][ch >> 1 & 1] + far2[2][dk][ch >> 2] <= r2_) << ch;
+            if (in) std::atomic_ref<uint8_t>(marks[g.index(i, j, k) - s_.cube_offset]).fetch_or(uint8_t(in), std::memory_order_relaxed);
+          }
+        }
+      }
+    }
+    return marks;
+  }
+
   // The nearest near seed of each point of the parent's 3x3x3 lattice (its children's corners),
   // found when a child first needs it: neighbouring children share corners.
   struct CornerCache {
@@ -948,6 +997,11 @@ class Sampler {
     const double h = std::ldexp(s_.grid.side, -(level + 1));
     const size_t chunks = (active.size() + kChunk - 1) / kChunk;
     std::vector<std::vector<ActiveCube>> kept(chunks);
+    const bool exact = level >= kFirstExactCoverageLevel;
+    // The first refinement's one-ball test from the seeds' side; the seeds near a cube are then
+    // needed only for the exact test.
+    const std::vector<uint8_t> marks = level == 0 ? mark_children_in_one_ball() : std::vector<uint8_t>();
+    const bool need_near = exact || marks.empty();
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t ch = 0; ch < chunks; ++ch) {
       std::vector<Vec3> near_base, near;
@@ -957,35 +1011,38 @@ class Sampler {
       for (size_t a = ch * kChunk; a < end; ++a) {
         const ActiveCube& c = active[a];
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
-        if (c.base != cached_base) {  // sub-cubes of one base cube are adjacent in the list
-          cached_base = c.base;
-          seeds_near_base_cube(c.base, near_base);
+        const Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz() * 2 * h};
+        if (need_near) {
+          if (c.base != cached_base) {  // a base cube's sub-cubes are adjacent in the list
+            cached_base = c.base;
+            seeds_near_base_cube(c.base, near_base);
+          }
+          // Of the base cube's neighbours, those that may reach this cube.
+          const Vec3 center = lo + Vec3{h, h, h};
+          const double reach = r_ + h * std::sqrt(3.0);
+          near.resize(near_base.size());  // filled without a branch per seed
+          size_t in_reach = 0;
+          for (Vec3 q : near_base) {
+            near[in_reach] = q;
+            in_reach += norm2(q - center) < reach * reach;
+          }
+          near.resize(in_reach);
         }
-        Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz() * 2 * h};
-        // Of the base cube's neighbours, those that may reach this cube.
-        const Vec3 center = lo + Vec3{h, h, h};
-        const double reach = r_ + h * std::sqrt(3.0);
-        near.resize(near_base.size());  // filled without a branch per seed
-        size_t in_reach = 0;
-        for (Vec3 q : near_base) {
-          near[in_reach] = q;
-          in_reach += norm2(q - center) < reach * reach;
-        }
-        near.resize(in_reach);
-        const uint32_t in_one_ball = children_in_one_ball(lo, h, near);
+        const uint32_t in_one_ball =
+            marks.empty() ? children_in_one_ball(lo, h, near) : marks[c.base - s_.cube_offset];
         corners.reset(lo, h);
         const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
         for (uint32_t child = 0; child < 8; ++child) {
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
           if (in_one_ball >> child & 1) continue;
-          if (level >= kFirstExactCoverageLevel && covered(near, corners, int(dx), int(dy), int(dz))) continue;
+          if (exact && covered(near, corners, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
             int32_t plane;
             int cls = classify_sub_box(clo, h, slot, plane);
             if (cls < 0) continue;
-            if (cls == 0 && plane >= 0 && level >= kFirstExactCoverageLevel &&
+            if (cls == 0 && plane >= 0 && exact &&
                 covered_below_plane(near, corners, int(dx), int(dy), int(dz), domain_.planes[plane]))
               continue;
             inside = cls > 0 ? ActiveCube::kInside : 0;
