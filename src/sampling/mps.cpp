@@ -273,53 +273,79 @@ class Sampler {
     return inside;
   }
 
-  // For every cube of the window, which of its eight children (bits as children_in_one_ball)
-  // lie in one seed's ball: the one-ball test of the first refinement, done from the seeds'
-  // side. A tenth of the cubes hold a seed, so marking the cubes around each seed reads a tenth
-  // of what gathering the seeds around each cube does. A child can lie in the ball of q only if
-  // its cube's centre is within r of q (a child's half diagonal is r/4, and its centre is r/4
-  // from the cube's), so of the 5^3 cubes around q's few are tested.
-  std::vector<uint8_t> mark_children_in_one_ball() const {
+  // Which of the 64 grandchildren of every cube of the window (bit x + 4y + 16z, in steps of a
+  // quarter side) lie in one seed's ball, for the seeds from `first` on: the one-ball tests of
+  // the first two refinements, done from the seeds' side. A tenth of the cubes hold a seed, so
+  // marking the cubes around each seed reads far less than gathering the seeds around each cube,
+  // and the marks of a level's seeds serve the next level too. A grandchild (half diagonal r/8,
+  // centre within 3r/8 of its cube's) can lie in q's ball only if its cube's centre is within
+  // 5r/4 of q, so of the 5^3 cubes around q's few are tested.
+  void mark_grandchildren_in_one_ball(size_t first) {
     const auto& g = s_.grid;
-    const double h = g.side / 2;
-    std::vector<uint8_t> marks(s_.cube_seed.size(), 0);
+    const double h = g.side / 4, reach2 = 1.5625 * r2_;
+    grandchild_marks_.resize(s_.cube_seed.size(), 0);
     const int64_t layer = int64_t(g.nx) * g.ny;
     const int k_begin = int(s_.cube_offset / layer), k_end = k_begin + int(s_.cube_seed.size() / layer);
 #pragma omp parallel for schedule(static)
-    for (size_t id = 0; id < s_.seeds.size(); ++id) {
+    for (size_t id = first; id < s_.seeds.size(); ++id) {
       const Vec3 q = s_.seeds[id];
       int c[3];
       g.locate(q, c[0], c[1], c[2]);
-      // Per axis, for the cubes d = -2..2 steps from q's and each of their halves: the squared
-      // distance from q to the half's farther face (as in children_in_one_ball), and from q to
-      // the cube's centre.
-      double far2[3][5][2], centre2[3][5];
+      // Per axis, for the cubes d = -2..2 steps from q's and each of their quarters: the squared
+      // distance from q to the quarter's farther face (as in children_in_one_ball), and from q
+      // to the cube's centre.
+      double far2[3][5][4], centre2[3][5];
       for (int a = 0; a < 3; ++a)
         for (int d = 0; d < 5; ++d) {
           const double x = q[a], l = g.origin[a] + (c[a] + d - 2) * g.side;
-          const double f0 = std::max(x - l, l + h - x), f1 = std::max(x - l - h, l + 2 * h - x);
-          far2[a][d][0] = f0 * f0;
-          far2[a][d][1] = f1 * f1;
-          centre2[a][d] = (x - l - h) * (x - l - h);
+          for (int u = 0; u < 4; ++u) {
+            const double f = std::max(x - (l + u * h), l + (u + 1) * h - x);
+            far2[a][d][u] = f * f;
+          }
+          centre2[a][d] = (x - l - 2 * h) * (x - l - 2 * h);
         }
       for (int dk = 0; dk < 5; ++dk) {
         const int k = c[2] + dk - 2;
         if (k < k_begin || k >= k_end) continue;
         for (int dj = 0; dj < 5; ++dj) {
           const int j = c[1] + dj - 2;
-          if (j < 0 || j >= g.ny || centre2[2][dk] + centre2[1][dj] > r2_) continue;
+          if (j < 0 || j >= g.ny || centre2[2][dk] + centre2[1][dj] > reach2) continue;
           for (int di = 0; di < 5; ++di) {
             const int i = c[0] + di - 2;
-            if (i < 0 || i >= g.nx || centre2[2][dk] + centre2[1][dj] + centre2[0][di] > r2_) continue;
-            uint32_t in = 0;
-            for (int ch = 0; ch < 8; ++ch)
-              in |= uint32_t(far2[0][di][ch & 1] + far2[1][dj][ch >> 1 & 1] + far2[2][dk][ch >> 2] <= r2_) << ch;
-            if (in) std::atomic_ref<uint8_t>(marks[g.index(i, j, k) - s_.cube_offset]).fetch_or(uint8_t(in), std::memory_order_relaxed);
+            if (i < 0 || i >= g.nx || centre2[2][dk] + centre2[1][dj] + centre2[0][di] > reach2) continue;
+            uint64_t in = 0;
+            for (int z = 0; z < 4; ++z)
+              for (int y = 0; y < 4; ++y) {
+                const double room = r2_ - far2[2][dk][z] - far2[1][dj][y];
+                uint64_t row = 0;
+                for (int x = 0; x < 4; ++x) row |= uint64_t(far2[0][di][x] <= room) << x;
+                in |= row << (4 * y + 16 * z);
+              }
+            if (in)
+              std::atomic_ref<uint64_t>(grandchild_marks_[g.index(i, j, k) - s_.cube_offset])
+                  .fetch_or(in, std::memory_order_relaxed);
           }
         }
       }
     }
-    return marks;
+  }
+  // The children of sub-cube (sx, sy, sz) of base cube b at level 0 or 1 that the marks show to be
+  // covered (bits as children_in_one_ball): at level 1, those in one ball; at level 0, those
+  // whose eight children each are.
+  uint32_t marked_children(int64_t b, int level, uint32_t sx, uint32_t sy, uint32_t sz) const {
+    const uint64_t m = grandchild_marks_[b - s_.cube_offset];
+    uint32_t covered = 0;
+    for (uint32_t ch = 0; ch < 8; ++ch) {
+      const uint32_t x = ch & 1, y = ch >> 1 & 1, z = ch >> 2;
+      if (level == 1) {
+        covered |= uint32_t(m >> ((2 * sx + x) + 4 * (2 * sy + y) + 16 * (2 * sz + z)) & 1) << ch;
+      } else {
+        const uint64_t quad = uint64_t(0x33) << (2 * x + 8 * y + 32 * z);  // its 2x2x2 quarters
+        const uint64_t all = quad | quad << 16;
+        covered |= uint32_t((m & all) == all) << ch;
+      }
+    }
+    return covered;
   }
 
   // The nearest near seed of each point of the parent's 3x3x3 lattice (its children's corners),
@@ -1000,8 +1026,12 @@ class Sampler {
     const bool exact = level >= kFirstExactCoverageLevel;
     // The first refinement's one-ball test from the seeds' side; the seeds near a cube are then
     // needed only for the exact test.
-    const std::vector<uint8_t> marks = level == 0 ? mark_children_in_one_ball() : std::vector<uint8_t>();
-    const bool need_near = exact || marks.empty();
+    const bool marked = level <= 1;
+    if (marked) {
+      mark_grandchildren_in_one_ball(marked_seeds_);
+      marked_seeds_ = s_.seeds.size();
+    }
+    const bool need_near = exact || !marked;
 #pragma omp parallel for schedule(dynamic, 1)
     for (size_t ch = 0; ch < chunks; ++ch) {
       std::vector<Vec3> near_base, near;
@@ -1029,7 +1059,7 @@ class Sampler {
           near.resize(in_reach);
         }
         const uint32_t in_one_ball =
-            marks.empty() ? children_in_one_ball(lo, h, near) : marks[c.base - s_.cube_offset];
+            marked ? marked_children(c.base, level, c.sx, c.sy, c.sz()) : children_in_one_ball(lo, h, near);
         corners.reset(lo, h);
         const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
         for (uint32_t child = 0; child < 8; ++child) {
@@ -1051,6 +1081,7 @@ class Sampler {
         }
       }
     }
+    if (level == 1) std::vector<uint64_t>().swap(grandchild_marks_);
     return concatenate(kept);
   }
 
@@ -1111,6 +1142,10 @@ class Sampler {
   // Non-convex domains, per boundary cube: the facet plane of all the triangles that meet it,
   // or -1; the plane alone then tells a sub-cube's or a dart's side (Domain::facet_plane_of).
   std::vector<int32_t> boundary_facet_;
+  // Per window cube, its grandchildren in one seed's ball, from the first marked_seeds_ seeds
+  // (levels 0 and 1; mark_grandchildren_in_one_ball).
+  std::vector<uint64_t> grandchild_marks_;
+  size_t marked_seeds_ = 0;
   double r_, r2_;
   uint64_t seed_;
   CounterRng rng_;
