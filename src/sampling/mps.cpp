@@ -822,7 +822,6 @@ class Sampler {
     s_.stats.darts += darts;
     Round round_set;
     round_set.all = concatenate(found);
-    std::sort(round_set.all.begin(), round_set.all.end(), by_arrival);
     if (partition_) add_neighbours_candidates(round_set);
     const std::vector<Candidate>& all = round_set.all;
     const std::vector<uint8_t> accepted = accept_in_arrival_order(round_set);
@@ -843,7 +842,7 @@ class Sampler {
     return a.time != b.time ? a.time < b.time : a.base < b.base;
   }
 
-  // One round's candidates in arrival order. In a partitioned run they include the neighbours'
+  // One round's candidates (in arrival order in a partitioned run). There they include the neighbours'
   // candidates within r of this slab (`source`: 0 own, 1 from the rank below, 2 from above),
   // and the positions of the candidates whose decisions the ranks trade.
   struct Round {
@@ -910,11 +909,11 @@ class Sampler {
     return key;
   }
 
-  // Greedy in arrival order (`all` is sorted by time), computed in parallel: a candidate is
-  // accepted iff no earlier candidate of the round that conflicts with it (within r, or in
-  // the same base cube) is accepted. Each pass decides every candidate whose earlier
-  // conflicting candidates are all decided; decisions are final, so the result is the
-  // sequential greedy one whatever the threads or their timing. In a partitioned run a rank
+  // Greedy in arrival order, computed in parallel: a candidate is accepted iff no earlier
+  // candidate of the round that conflicts with it (within r, or in the same base cube) is
+  // accepted. Each pass decides every candidate whose earlier conflicting candidates are all
+  // decided; decisions are final, so the result is the sequential greedy one whatever the
+  // threads or their timing, and whatever the order of `all`. In a partitioned run a rank
   // decides its own candidates only; after it can go no further the ranks trade the decisions
   // near their shared faces, until no rank has an undecided candidate. The earliest undecided
   // candidate anywhere is always decidable, so this ends, with the serial decisions.
@@ -922,10 +921,10 @@ class Sampler {
     enum : uint8_t { Undecided, Accepted, Rejected };
     const std::vector<Candidate>& all = rs.all;
     const size_t n = all.size();
-    // Candidates bucketed in cubes of side r over their bounding box (counting sort; ascending
-    // index in each slot). When the box has many more cubes than candidates (late rounds, or a
-    // domain that fills little of its box) the cubes are hashed into 2n slots, so a round costs
-    // O(n); cubes that share a slot only add candidates the exact test then skips.
+    // Candidates bucketed in cubes of side r over their bounding box (counting sort). When the
+    // box has many more cubes than candidates (late rounds, or a domain that fills little of its
+    // box) the cubes are hashed into 2n slots, so a round costs O(n); cubes that share a slot
+    // only add candidates the exact test then skips.
     Box box{all.empty() ? Vec3{} : all[0].p, all.empty() ? Vec3{} : all[0].p};
     for (const Candidate& c : all)
       for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], c.p[a]), box.hi[a] = std::max(box.hi[a], c.p[a]);
@@ -943,8 +942,7 @@ class Sampler {
       if (!hashed) return (size_t(k) * ny + j) * nx + i;
       return size_t((uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u)) & (slots - 1);
     };
-    std::vector<uint32_t> begin(slots + 1, 0), order(n);
-    std::vector<uint32_t> key(n);
+    std::vector<uint32_t> begin(slots + 1, 0), key(n);
     for (size_t c = 0; c < n; ++c) {
       int i, j, k;
       cell(all[c].p, i, j, k);
@@ -952,39 +950,49 @@ class Sampler {
       ++begin[key[c] + 1];
     }
     for (size_t b = 1; b < begin.size(); ++b) begin[b] += begin[b - 1];
-    // Positions and cubes again in slot order: a slot's candidates are read together, and
-    // `all` is in arrival order, scattered in space.
-    std::vector<Vec3> slot_p(n);
-    std::vector<int64_t> slot_base(n);
+    // The candidates again in slot order, each slot's in arrival order, and everything the
+    // passes read kept in that order: a candidate's neighbours are then read from nearby memory
+    // (in arrival order they are scattered in space, and their reads missed the cache: half of
+    // a round's time).
+    struct Entry {
+      Candidate c;
+      uint32_t index;  // in `all`
+    };
+    std::vector<Entry> entry(n);
+    std::vector<uint32_t> at(n);  // entry of each candidate of `all`
     {
       std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-      for (size_t c = 0; c < n; ++c) {
-        const uint32_t e = fill[key[c]]++;
-        order[e] = uint32_t(c), slot_p[e] = all[c].p, slot_base[e] = all[c].base;
-      }
+      for (size_t c = 0; c < n; ++c) entry[fill[key[c]]++] = {all[c], uint32_t(c)};
     }
-    std::vector<std::atomic<uint8_t>> state(n);
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (size_t b = 0; b < slots; ++b) {
+      std::sort(entry.begin() + begin[b], entry.begin() + begin[b + 1],
+                [](const Entry& x, const Entry& y) { return by_arrival(x.c, y.c); });
+      for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) at[entry[e].index] = e;
+    }
+    std::vector<std::atomic<uint8_t>> state(n);  // by entry
     for (auto& s : state) s.store(Undecided, std::memory_order_relaxed);
     for (;;) {
       bool undecided = n > 0, progress = true;
       while (undecided && progress) {
         undecided = progress = false;
 #pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided, progress)
-        for (size_t c = 0; c < n; ++c) {
-          if (state[c].load(std::memory_order_relaxed) != Undecided) continue;
-          if (!rs.source.empty() && rs.source[c] != 0) continue;  // a neighbour decides it
+        for (size_t e = 0; e < n; ++e) {
+          if (state[e].load(std::memory_order_relaxed) != Undecided) continue;
+          const Candidate& me = entry[e].c;
+          if (!rs.source.empty() && rs.source[entry[e].index] != 0) continue;  // a neighbour decides it
           int ci, cj, ck;
-          cell(all[c].p, ci, cj, ck);
+          cell(me.p, ci, cj, ck);
           bool blocked = false, dead = false;
           for (int k = std::max(0, ck - 1); k <= std::min(nz - 1, ck + 1) && !dead; ++k)
             for (int j = std::max(0, cj - 1); j <= std::min(ny - 1, cj + 1) && !dead; ++j)
               for (int i = std::max(0, ci - 1); i <= std::min(nx - 1, ci + 1) && !dead; ++i) {
                 const size_t b = slot(i, j, k);
-                for (uint32_t e = begin[b]; e < begin[b + 1]; ++e) {
-                  const uint32_t d = order[e];
-                  if (d >= c) break;  // only earlier arrivals matter (ascending in a bucket)
-                  if (slot_base[e] != all[c].base && norm2(slot_p[e] - all[c].p) >= r2_) continue;
-                  const uint8_t sd = state[d].load(std::memory_order_acquire);
+                for (uint32_t f = begin[b]; f < begin[b + 1]; ++f) {
+                  const Candidate& other = entry[f].c;
+                  if (!by_arrival(other, me)) break;  // only earlier arrivals matter (in order in a slot)
+                  if (other.base != me.base && norm2(other.p - me.p) >= r2_) continue;
+                  const uint8_t sd = state[f].load(std::memory_order_acquire);
                   if (sd == Accepted) {
                     dead = true;
                     break;
@@ -992,28 +1000,28 @@ class Sampler {
                   if (sd == Undecided) blocked = true;
                 }
               }
-          if (dead) state[c].store(Rejected, std::memory_order_release), progress = true;
-          else if (!blocked) state[c].store(Accepted, std::memory_order_release), progress = true;
+          if (dead) state[e].store(Rejected, std::memory_order_release), progress = true;
+          else if (!blocked) state[e].store(Accepted, std::memory_order_release), progress = true;
           else undecided = true;
         }
       }
       if (!partition_) break;
       // Trade decisions with the neighbours, then stop when no rank has an undecided candidate
       // (the trade before that last check delivered the final ones).
-      auto states = [&](const std::vector<uint32_t>& at) {
-        Communicator::Bytes out(at.size());
-        for (size_t k = 0; k < at.size(); ++k) out[k] = state[at[k]].load(std::memory_order_relaxed);
+      auto states = [&](const std::vector<uint32_t>& candidates) {
+        Communicator::Bytes out(candidates.size());
+        for (size_t k = 0; k < candidates.size(); ++k) out[k] = state[at[candidates[k]]].load(std::memory_order_relaxed);
         return out;
       };
       Communicator::Bytes below, above;
       partition_->comm->exchange_with_neighbours(states(rs.send_lower), states(rs.send_upper), below, above);
       ++partition_->exchanges;
-      for (size_t k = 0; k < rs.from_lower.size(); ++k) state[rs.from_lower[k]].store(below.at(k));
-      for (size_t k = 0; k < rs.from_upper.size(); ++k) state[rs.from_upper[k]].store(above.at(k));
+      for (size_t k = 0; k < rs.from_lower.size(); ++k) state[at[rs.from_lower[k]]].store(below.at(k));
+      for (size_t k = 0; k < rs.from_upper.size(); ++k) state[at[rs.from_upper[k]]].store(above.at(k));
       if (!anywhere(undecided)) break;
     }
     std::vector<uint8_t> accepted(n);
-    for (size_t c = 0; c < n; ++c) accepted[c] = state[c].load(std::memory_order_relaxed) == Accepted;
+    for (size_t c = 0; c < n; ++c) accepted[c] = state[at[c]].load(std::memory_order_relaxed) == Accepted;
     return accepted;
   }
 
