@@ -270,18 +270,24 @@ class CellBuilder {
 template <class Cell>
 void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::vector<ConvexCell::Names>& names,
                  const Sample::Protected* protection, SeedRange built) {
-  int32_t key[ConvexCell::kMaxGenerators + 1];
+  int32_t key[ConvexCell::kMaxGenerators];
   bool fringe = false;
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
-    int n = names[v].n;
+    // The vertex's name without the cell's own seed, which is implied; sorted.
+    const int n = names[v].n;
     std::copy(names[v].gen, names[v].gen + n, key);
-    key[n++] = i;
-    for (int a = 1; a < n; ++a)  // insertion sort: keys have 4 entries, rarely more
-      for (int b = a; b > 0 && key[b - 1] > key[b]; --b) std::swap(key[b - 1], key[b]);
-    const bool owned = owner_of(key, n, built.begin) == i;
-    // Stored without the cell's own seed, which is implied.
-    std::remove(key, key + n, i);
-    --n;
+    if (n == 3) {  // nearly every vertex: a sorting network, without the branches that mispredict
+      auto order = [](int32_t& a, int32_t& b) {
+        const int32_t lo = std::min(a, b), hi = std::max(a, b);
+        a = lo, b = hi;
+      };
+      order(key[0], key[1]), order(key[1], key[2]), order(key[0], key[1]);
+    } else {
+      std::sort(key, key + n);
+    }
+    // This cell owns the vertex iff its seed is the smallest built seed of the name (owner_of).
+    bool owned = true;
+    for (int a = 0; a < n; ++a) owned &= !(key[a] >= built.begin && key[a] < i);
     ch.vertex_info.push_back(uint8_t(n | (owned ? kOwnedBit : 0)));
     if (owned) {
       ch.owned_key_len.push_back(uint8_t(n));
