@@ -44,6 +44,9 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   const size_t nt = tri_.size();
   sd_.resize(nt);
   out_.resize(nt);
+  // The removed vertices, listed as they are found (without a branch: a few of some thirty go),
+  // become the first slots of the new triangles.
+  slots_.resize(nt);
   size_t n_out = 0;
   bool any_in = false;
   for (size_t t = 0; t < nt; ++t) {
@@ -51,6 +54,7 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
     sd_[t] = s;
     const bool o = s > eps;
     out_[t] = o;
+    slots_[n_out] = uint16_t(t);
     n_out += o;
     any_in |= s < -eps;
   }
@@ -64,8 +68,8 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   // cycle through the planes the new face crosses.
   border_.clear();
   Clip result = Clip::Cut;
-  for (size_t t = 0; t < nt && result == Clip::Cut; ++t) {
-    if (!out_[t]) continue;
+  for (size_t r = 0; r < n_out && result == Clip::Cut; ++r) {
+    const uint16_t t = slots_[r];
     for (int k = 0; k < 3; ++k) {
       const uint16_t o = tri_[t].adj[k];
       if (out_[o]) continue;
@@ -105,10 +109,8 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   // New triangles (u, v, P) take the removed triangles' slots first.
   const uint8_t P = uint8_t(planes_.size());
   planes_.push_back({n, offset, generator});
-  slots_.clear();
-  for (size_t t = 0; t < nt; ++t)
-    if (out_[t]) slots_.push_back(uint16_t(t));
-  const size_t removed = slots_.size();
+  const size_t removed = n_out;
+  slots_.resize(removed);
   for (size_t b = removed; b < nb; ++b) slots_.push_back(uint16_t(nt + b - removed));
   if (nb > removed) {
     tri_.resize(nt + nb - removed);
