@@ -40,6 +40,20 @@ struct ActiveCube {
   bool inside() const { return sz_flags & kInside; }
 };
 
+// The active cubes of a level, in parts that are units of work: a part's children are a part
+// of the next level, so the lists are never copied into one (that copy was 5% of the sampling
+// time). Results depend on neither the parts nor their order: darts are keyed by cube, and
+// seeds are numbered in Morton order.
+struct ActiveCubes {
+  std::vector<std::vector<ActiveCube>> parts;
+  size_t size() const {
+    size_t n = 0;
+    for (const auto& p : parts) n += p.size();
+    return n;
+  }
+  bool empty() const { return size() == 0; }
+};
+
 // Concatenates per-chunk results in chunk order, freeing each chunk as it goes.
 template <class T>
 std::vector<T> concatenate(std::vector<std::vector<T>>& parts) {
@@ -78,7 +92,6 @@ constexpr int kRoundsPerLevel = 1;
 // sample: a child's darts depend only on its place and level, and those thrown into covered
 // space are all rejected, so keeping a covered child changes the work, not the seeds.
 constexpr int kFirstExactCoverageLevel = 5;
-constexpr size_t kChunk = 4096;  // work unit; fixed so results never depend on thread count
 
 // Inverse CDF of the Poisson law with mean `mean`, whose probability of 0 is p0 = exp(-mean).
 int poisson(double u, double mean, double p0) {
@@ -116,7 +129,7 @@ class Sampler {
 
   Sample run() {
     protect();
-    std::vector<ActiveCube> active = initial_cubes();
+    ActiveCubes active = initial_cubes();
     int level = 0;
     while (anywhere(!active.empty())) {
       const int rounds = level == 0 ? kRoundsLevel0 : kRoundsPerLevel;
@@ -126,9 +139,7 @@ class Sampler {
       s_.stats.per_level.back().darts = s_.stats.darts - darts0;
       s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;
       if (level == tol::kMaxSamplingLevel) break;
-      std::vector<ActiveCube> next = refine(active, level);
-      std::vector<ActiveCube>().swap(active);
-      active = std::move(next);
+      active = refine(active, level);
       ++level;
     }
     s_.stats.levels = size_t(level) + 1;
@@ -719,7 +730,7 @@ class Sampler {
   // domain) or triangles that cut them. Blocks of 8^3 cubes are classified first (and a cut
   // block's octants in turn, for triangles), so a cube is tested only against the few that cut
   // its block.
-  std::vector<ActiveCube> initial_cubes() {
+  ActiveCubes initial_cubes() {
     const auto& g = s_.grid;
     constexpr int B = 8;
     const int bx = (g.nx + B - 1) / B, by = (g.ny + B - 1) / B, bz = (g.nz + B - 1) / B;
@@ -788,20 +799,19 @@ class Sampler {
       boundary_facet_.resize(boundary_base_.size());
       for (size_t slot = 0; slot < boundary_base_.size(); ++slot) boundary_facet_[slot] = domain_.facet_plane_of(cutting_planes(slot));
     }
-    return concatenate(cubes);
+    std::erase_if(cubes, [](const std::vector<ActiveCube>& part) { return part.empty(); });
+    return {std::move(cubes)};
   }
 
-  void throw_round(std::vector<ActiveCube>& active, int level, int round) {
+  void throw_round(const ActiveCubes& active, int level, int round) {
     const double h = std::ldexp(s_.grid.side, -level);
     const double mean = level == 0 ? kDartsPerCubePerRoundLevel0 : kDartsPerCubePerRound, p0 = std::exp(-mean);
-    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    const size_t chunks = active.parts.size();
     std::vector<std::vector<Candidate>> found(chunks);
     size_t darts = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : darts)
     for (size_t ch = 0; ch < chunks; ++ch) {
-      size_t end = std::min(active.size(), (ch + 1) * kChunk);
-      for (size_t a = ch * kChunk; a < end; ++a) {
-        const ActiveCube& c = active[a];
+      for (const ActiveCube& c : active.parts[ch]) {
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         const uint64_t c1 = (uint64_t(c.sx) << 32) | c.sy;
         const uint64_t tag = (uint64_t(c.sz()) << 32) | (uint64_t(level) << 24) | (uint64_t(round) << 12);
@@ -1037,9 +1047,9 @@ class Sampler {
 
   // Splits every active cube into 8 and keeps the children that are neither covered (by one
   // ball, or from kFirstExactCoverageLevel on provably by two or three) nor outside the domain.
-  std::vector<ActiveCube> refine(const std::vector<ActiveCube>& active, int level) {
+  ActiveCubes refine(const ActiveCubes& active, int level) {
     const double h = std::ldexp(s_.grid.side, -(level + 1));
-    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    const size_t chunks = active.parts.size();
     std::vector<std::vector<ActiveCube>> kept(chunks);
     const bool exact = level >= kFirstExactCoverageLevel;
     // The first refinement's one-ball test from the seeds' side; the seeds near a cube are then
@@ -1055,9 +1065,7 @@ class Sampler {
       std::vector<Vec3> near_base, near;
       CornerCache corners;
       int64_t cached_base = -1;
-      size_t end = std::min(active.size(), (ch + 1) * kChunk);
-      for (size_t a = ch * kChunk; a < end; ++a) {
-        const ActiveCube& c = active[a];
+      for (const ActiveCube& c : active.parts[ch]) {
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         const Vec3 lo = base_origin(c.base) + Vec3{c.sx * 2 * h, c.sy * 2 * h, c.sz() * 2 * h};
         if (need_near) {
@@ -1100,7 +1108,8 @@ class Sampler {
       }
     }
     if (level == 1) std::vector<uint64_t>().swap(grandchild_marks_);
-    return concatenate(kept);
+    std::erase_if(kept, [](const std::vector<ActiveCube>& part) { return part.empty(); });
+    return {std::move(kept)};
   }
 
   // Protection seeds first (paper §2.2); the free seeds then keep r from them like from each other.
