@@ -229,9 +229,9 @@ void ConvexCell::build_faces() const {
     do {
       const uint16_t v = f.vertex_of_tri[t];
       if (f.face_vert.size() == begin || f.face_vert.back() != v) f.face_vert.push_back(v);
-      int s = 0;
-      while (tri_[t].p[s] != p) ++s;
-      t = tri_[t].adj[(s + 1) % 3];  // across the edge (p[s+2], p[s]): the next vertex of the face
+      const Tri& at = tri_[t];
+      const int s = (at.p[1] == p) + 2 * (at.p[2] == p);  // p's slot, found without a branch
+      t = at.adj[s == 2 ? 0 : s + 1];  // across the edge (p[s+2], p[s]): the next vertex of the face
     } while (t != start && ++steps <= nt);
     if (f.face_vert.size() - begin > 1 && f.face_vert.back() == f.face_vert[begin]) f.face_vert.pop_back();
     if (f.face_vert.size() - begin < 3) {  // collapsed to an edge or a point by snapping
