@@ -1102,10 +1102,11 @@ class Sampler {
             marked ? marked_children(c.base, level, c.sx, c.sy, c.sz()) : children_in_one_ball(lo, h, near);
         corners.reset(lo, h);
         const size_t slot = c.inside() ? 0 : boundary_slot(c.base);
-        for (uint32_t child = 0; child < 8; ++child) {
+        // The children in no single ball, in order (a loop over them, not a branch per child).
+        for (uint32_t rest = ~in_one_ball & 0xFF; rest != 0; rest &= rest - 1) {
+          const uint32_t child = uint32_t(std::countr_zero(rest));
           uint32_t dx = child & 1, dy = (child >> 1) & 1, dz = child >> 2;
           Vec3 clo = lo + Vec3{dx * h, dy * h, dz * h};
-          if (in_one_ball >> child & 1) continue;
           if (exact && covered(near, corners, int(dx), int(dy), int(dz))) continue;
           uint32_t inside = c.sz_flags & ActiveCube::kInside;
           if (!inside) {
