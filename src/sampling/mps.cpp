@@ -302,12 +302,10 @@ class Sampler {
   // quarter side) lie in one seed's ball, for the seeds from `first` on: the one-ball tests of
   // the first two refinements, done from the seeds' side. A tenth of the cubes hold a seed, so
   // marking the cubes around each seed reads far less than gathering the seeds around each cube,
-  // and the marks of a level's seeds serve the next level too. A grandchild (half diagonal r/8,
-  // centre within 3r/8 of its cube's) can lie in q's ball only if its cube's centre is within
-  // 5r/4 of q, so of the 5^3 cubes around q's few are tested.
+  // and the marks of a level's seeds serve the next level too.
   void mark_grandchildren_in_one_ball(size_t first) {
     const auto& g = s_.grid;
-    const double h = g.side / 4, reach2 = 1.5625 * r2_;
+    const double h = g.side / 4;
     grandchild_marks_.resize(s_.cube_seed.size(), 0);
     const int64_t layer = int64_t(g.nx) * g.ny;
     const int k_begin = int(s_.cube_offset / layer), k_end = k_begin + int(s_.cube_seed.size() / layer);
@@ -319,7 +317,7 @@ class Sampler {
       // Per axis, for the cubes d = -2..2 steps from q's and each of their quarters: the squared
       // distance from q to the quarter's farther face (as in children_in_one_ball), and from q
       // to the cube's centre.
-      double far2[3][5][4], centre2[3][5];
+      double far2[3][5][4], nearest2[3][5];
       for (int a = 0; a < 3; ++a)
         for (int d = 0; d < 5; ++d) {
           const double x = q[a], l = g.origin[a] + (c[a] + d - 2) * g.side;
@@ -327,17 +325,20 @@ class Sampler {
             const double f = std::max(x - (l + u * h), l + (u + 1) * h - x);
             far2[a][d][u] = f * f;
           }
-          centre2[a][d] = (x - l - 2 * h) * (x - l - 2 * h);
+          nearest2[a][d] = std::min({far2[a][d][0], far2[a][d][1], far2[a][d][2], far2[a][d][3]});
         }
+      // Only cubes with a grandchild in the ball (the smallest terms along each axis fit), other
+      // than q's own, which holds a seed and is never refined.
       for (int dk = 0; dk < 5; ++dk) {
         const int k = c[2] + dk - 2;
         if (k < k_begin || k >= k_end) continue;
         for (int dj = 0; dj < 5; ++dj) {
           const int j = c[1] + dj - 2;
-          if (j < 0 || j >= g.ny || centre2[2][dk] + centre2[1][dj] > reach2) continue;
+          if (j < 0 || j >= g.ny || nearest2[2][dk] + nearest2[1][dj] > r2_) continue;
           for (int di = 0; di < 5; ++di) {
             const int i = c[0] + di - 2;
-            if (i < 0 || i >= g.nx || centre2[2][dk] + centre2[1][dj] + centre2[0][di] > reach2) continue;
+            if (i < 0 || i >= g.nx || nearest2[2][dk] + nearest2[1][dj] + nearest2[0][di] > r2_) continue;
+            if (di == 2 && dj == 2 && dk == 2) continue;
             uint64_t in = 0;
             for (int z = 0; z < 4; ++z)
               for (int y = 0; y < 4; ++y) {
