@@ -1070,10 +1070,12 @@ class Sampler {
     const bool exact = level >= kFirstExactCoverageLevel;
     // The first refinement's one-ball test from the seeds' side; the seeds near a cube are then
     // needed only for the exact test.
-    // Marks take 8 bytes per cube of the window: only where the domain fills a good part of its
-    // box (a thin or hollow solid's grid is mostly empty cubes: 380 MB of marks for the 10^5
-    // cells of step.off, whose domain fills 1.5% of its grid).
-    const bool marked = level <= 1 && 4 * initial_active_ >= s_.cube_seed.size();
+    // Marks take 8 bytes per cube of the window: only where the domain fills a fifth of it or
+    // more, so they cost at most 40 bytes per cube of the domain, under 300 per seed, while the
+    // sampler's memory is still far below the peak of the stages after it. A thin or hollow
+    // solid's grid can be mostly empty cubes: step.off fills 1.5% of its grid, and its 10^5 cells
+    // would have taken 380 MB of marks.
+    const bool marked = level <= 1 && 5 * initial_active_ >= s_.cube_seed.size();
     if (marked) {
       mark_grandchildren_in_one_ball(marked_seeds_);
       marked_seeds_ = s_.seeds.size();
