@@ -316,8 +316,8 @@ class Sampler {
       int c[3];
       g.locate(q, c[0], c[1], c[2]);
       // Per axis, for the cubes d = -2..2 steps from q's and each of their quarters: the squared
-      // distance from q to the quarter's farther face (as in children_in_one_ball), and from q
-      // to the cube's centre.
+      // distance from q to the quarter's farther face (as in children_in_one_ball), and its
+      // smallest value over the cube's four quarters.
       double far2[3][5][4], nearest2[3][5];
       for (int a = 0; a < 3; ++a)
         for (int d = 0; d < 5; ++d) {
@@ -868,9 +868,9 @@ class Sampler {
     return a.time != b.time ? a.time < b.time : a.base < b.base;
   }
 
-  // One round's candidates (in arrival order in a partitioned run). There they include the neighbours'
-  // candidates within r of this slab (`source`: 0 own, 1 from the rank below, 2 from above),
-  // and the positions of the candidates whose decisions the ranks trade.
+  // One round's candidates. In a partitioned run they are in arrival order and include the
+  // neighbours' candidates within r of this slab (`source`: 0 own, 1 from the rank below, 2 from
+  // above), with the positions of the candidates whose decisions the ranks trade.
   struct Round {
     std::vector<Candidate> all;
     std::vector<uint8_t> source;
@@ -1068,13 +1068,12 @@ class Sampler {
     const size_t chunks = active.parts.size();
     std::vector<std::vector<ActiveCube>> kept(chunks);
     const bool exact = level >= kFirstExactCoverageLevel;
-    // The first refinement's one-ball test from the seeds' side; the seeds near a cube are then
-    // needed only for the exact test.
-    // Marks take 8 bytes per cube of the window: only where the domain fills a fifth of it or
-    // more, so they cost at most 40 bytes per cube of the domain, under 300 per seed, while the
-    // sampler's memory is still far below the peak of the stages after it. A thin or hollow
-    // solid's grid can be mostly empty cubes: step.off fills 1.5% of its grid, and its 10^5 cells
-    // would have taken 380 MB of marks.
+    // The first two refinements' one-ball tests from the seeds' side (the seeds near a cube are
+    // then needed only for the exact test). Marks take 8 bytes per cube of the window: only where
+    // the domain fills a fifth of it or more, so they cost at most 40 bytes per cube of the
+    // domain, under 300 per seed, while the sampler's memory is still far below the peak of the
+    // stages after it. A thin or hollow solid's grid can be mostly empty cubes: step.off fills
+    // 1.5% of its grid, and its 10^5 cells would have taken 380 MB of marks.
     const bool marked = level <= 1 && 5 * initial_active_ >= s_.cube_seed.size();
     if (marked) {
       mark_grandchildren_in_one_ball(marked_seeds_);
