@@ -1005,13 +1005,14 @@ class Sampler {
 #pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided, progress)
         for (size_t e = 0; e < n; ++e) {
           if (state[e].load(std::memory_order_relaxed) != Undecided) continue;
+          if (!rs.source.empty() && rs.source[entry[e].index] != 0) continue;  // a neighbour decides it
           // Decides entry f if it can, deciding its undecided earlier conflicting candidates
           // first, to a bounded depth: in bucket order those are often not visited yet, and
           // leaving them to the next pass took 4 to 6 passes.
           auto decide = [&](auto& self, uint32_t f, int depth) -> uint8_t {
             const uint8_t known = state[f].load(std::memory_order_acquire);
             if (known != Undecided) return known;
-            if (!rs.source.empty() && rs.source[entry[f].index] != 0) return Undecided;  // a neighbour decides it
+            if (!rs.source.empty() && rs.source[entry[f].index] != 0) return Undecided;  // until traded
             const Candidate& me = entry[f].c;
             int ci, cj, ck;
             cell(me.p, ci, cj, ck);
