@@ -2,7 +2,6 @@
 // cells in the `faces` / `faceoffsets` layout that VTK 9.1 and ParaView read. Output is a pure
 // function of the mesh and the run parameters: no time stamps, no host names.
 #include <algorithm>
-#include <bit>
 #include <climits>
 #include <cstring>
 #include <functional>
@@ -10,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "common/cell_points.hpp"
 #include "froth/io.hpp"
 #include "io/atomic_file.hpp"
 
@@ -125,37 +125,6 @@ void stream_cells(std::ostream& out, size_t n, Count count, Fill fill) {
     for (size_t c = b0; c < b1; ++c) fill(c, values.data() + offsets[c - b0]);
     out.write(reinterpret_cast<const char*>(values.data()), std::streamsize(values.size() * sizeof(Index)));
   }
-}
-
-// Each cell's distinct points, sorted (VTK's cell connectivity for a polyhedron). Every point
-// is on three or more of the cell's faces, so the repeats are dropped first, through a small
-// hash set, and only the distinct third is sorted (sorting all of them was a third of the
-// writing time).
-void cell_points(const PolyMesh& m, size_t c, std::vector<int32_t>& pts) {
-  const int32_t* begin = m.face_vertices.data() + m.face_vertex_begin[m.cell_face_begin[c]];
-  const int32_t* end = m.face_vertices.data() + m.face_vertex_begin[m.cell_face_begin[c + 1]];
-  const size_t n = size_t(end - begin);
-  thread_local std::vector<int32_t> table;  // -1: empty; emptied again before returning
-  if (table.size() < 2 * n) table.assign(std::bit_ceil(2 * n), -1);
-  const size_t mask = table.size() - 1;
-  pts.resize(n);
-  size_t distinct = 0;
-  for (const int32_t* v = begin; v != end; ++v) {
-    size_t s = (uint32_t(*v) * 0x9E3779B1u) & mask;
-    while (table[s] != -1 && table[s] != *v) s = (s + 1) & mask;
-    // A point's first and later appearances alternate unpredictably: kept without a branch.
-    const bool fresh = table[s] == -1;
-    table[s] = *v;
-    pts[distinct] = *v;
-    distinct += fresh;
-  }
-  pts.resize(distinct);
-  for (int32_t p : pts) {
-    size_t s = (uint32_t(p) * 0x9E3779B1u) & mask;
-    while (table[s] != p) s = (s + 1) & mask;
-    table[s] = -1;
-  }
-  std::sort(pts.begin(), pts.end());
 }
 
 // The Cells arrays (connectivity, offsets, types, faces, faceoffsets) with ids of type Index.

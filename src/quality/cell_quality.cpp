@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/cell_points.hpp"
 #include "common/face_plane.hpp"
 #include "froth/quality.hpp"
 #include "quality/inscribed_ball.hpp"
@@ -75,7 +76,6 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   for (int64_t f = f0; f < f1; ++f) {
     const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
     for (int64_t k = b; k < e; ++k) {
-      w.ids.push_back(m.face_vertices[k]);
       const int32_t a = m.face_vertices[k], bb = m.face_vertices[k + 1 < e ? k + 1 : b];
       w.edges.emplace_back(std::min(a, bb), std::max(a, bb), uint32_t(f - f0), a < bb);
     }
@@ -86,8 +86,7 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     w.offsets.push_back(dot(plane.normal, plane.centroid));
     w.border.push_back(is_border_generator(m.face_generator[f]));
   }
-  std::sort(w.ids.begin(), w.ids.end());
-  w.ids.erase(std::unique(w.ids.begin(), w.ids.end()), w.ids.end());
+  cell_points(m, c, w.ids);
   q.faces = uint32_t(f1 - f0);
   q.vertices = uint32_t(w.ids.size());
 
