@@ -179,15 +179,20 @@ class CellBuilder {
     std::sort(nb.begin(), nb.end(), [](const Neighbour& a, const Neighbour& b) {
       return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed;
     });
-    double rmax2 = cell.max_radius2();
+    // Security radius: a seed farther than twice the cell's radius cannot cut it. (The bound
+    // changes only with a cut.)
+    auto security_bound = [&] {
+      const double rmax2 = cell.max_radius2();
+      return 4 * rmax2 + 4 * eps_ * std::sqrt(rmax2);
+    };
+    double bound = security_bound();
     for (const Neighbour& n : nb) {
-      // Security radius: a seed farther than twice the cell's radius cannot cut it.
-      if (n.d2 > 4 * rmax2 + 4 * eps_ * std::sqrt(rmax2)) break;
+      if (n.d2 > bound) break;
       double d = std::sqrt(n.d2);
       Vec3 dir = (1 / d) * (sample_.seeds[n.seed] - x);
       ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_);
       if (!usable(c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
-      if (c == ConvexCell::Clip::Cut) rmax2 = cell.max_radius2();
+      if (c == ConvexCell::Clip::Cut) bound = security_bound();
     }
     if (!domain_.convex) {
       std::string error;
