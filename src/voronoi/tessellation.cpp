@@ -303,8 +303,9 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
         a = lo, b = hi;
       };
       order(key[0], key[1]), order(key[1], key[2]), order(key[0], key[1]);
-    } else {
-      std::sort(key, key + n);
+    } else {  // at most kMaxGenerators: by insertion (std::sort here also drew a false GCC 12 -Warray-bounds)
+      for (int a = 1; a < n; ++a)
+        for (int b = a; b > 0 && key[b] < key[b - 1]; --b) std::swap(key[b], key[b - 1]);
     }
     // This cell owns the vertex iff its seed is the smallest built seed of the name (owner_of).
     bool owned = true;
