@@ -12,6 +12,9 @@
 #include "sampling/mps.hpp"
 
 #include <omp.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -294,7 +297,16 @@ class Sampler {
         far2[a][0] = f0 * f0;
         far2[a][1] = f1 * f1;
       }
+#ifdef __SSE2__
+      // Two children (x = 0, 1) per vector compare, the sums grouped as below.
+      const __m128d x = _mm_loadu_pd(far2[0]), limit = _mm_set1_pd(r2_);
+      for (int yz = 0; yz < 4; ++yz) {
+        const __m128d sum = _mm_add_pd(_mm_add_pd(x, _mm_set1_pd(far2[1][yz & 1])), _mm_set1_pd(far2[2][yz >> 1]));
+        inside |= uint32_t(_mm_movemask_pd(_mm_cmple_pd(sum, limit))) << (2 * yz);
+      }
+#else
       for (int c = 0; c < 8; ++c) inside |= uint32_t(far2[0][c & 1] + far2[1][c >> 1 & 1] + far2[2][c >> 2] <= r2_) << c;
+#endif
     }
     return inside;
   }
@@ -341,11 +353,22 @@ class Sampler {
             if (i < 0 || i >= g.nx || nearest2[2][dk] + nearest2[1][dj] + nearest2[0][di] > r2_) continue;
             if (di == 2 && dj == 2 && dk == 2) continue;
             uint64_t in = 0;
+#ifdef __SSE2__
+            // A row's four tests as two vector compares (the compiler kept them scalar, a
+            // compare and a flag per grandchild: most of the marking time); the same tests.
+            const __m128d x01 = _mm_loadu_pd(&far2[0][di][0]), x23 = _mm_loadu_pd(&far2[0][di][2]);
+#endif
             for (int z = 0; z < 4; ++z)
               for (int y = 0; y < 4; ++y) {
                 const double room = r2_ - far2[2][dk][z] - far2[1][dj][y];
+#ifdef __SSE2__
+                const __m128d limit = _mm_set1_pd(room);
+                const uint64_t row = uint64_t(_mm_movemask_pd(_mm_cmple_pd(x01, limit)) |
+                                              _mm_movemask_pd(_mm_cmple_pd(x23, limit)) << 2);
+#else
                 uint64_t row = 0;
                 for (int x = 0; x < 4; ++x) row |= uint64_t(far2[0][di][x] <= room) << x;
+#endif
                 in |= row << (4 * y + 16 * z);
               }
             if (in)
