@@ -67,6 +67,7 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   // from plane u to plane v (in the removed triangle's order); for a convex cut they form one
   // cycle through the planes the new face crosses.
   border_.clear();
+  double new_face_radius2 = 0;
   Clip result = Clip::Cut;
   for (size_t r = 0; r < n_out && result == Clip::Cut; ++r) {
     const uint16_t t = slots_[r];
@@ -86,6 +87,7 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
       Vec3 p = pos_[o];
       if (sd_[o] < -eps) p = p + (sd_[o] / (sd_[o] - sd_[t])) * (pos_[t] - pos_[o]);
       border_.push_back({u, v, uint8_t(slot), o, p});
+      new_face_radius2 = std::max(new_face_radius2, norm2(p));
     }
   }
   const size_t nb = border_.size();
@@ -106,6 +108,7 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
     return result;
   }
 
+  new_face_radius2_ = new_face_radius2;
   // New triangles (u, v, P) take the removed triangles' slots first.
   const uint8_t P = uint8_t(planes_.size());
   planes_.push_back({n, offset, generator});

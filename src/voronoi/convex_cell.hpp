@@ -48,6 +48,9 @@ class ConvexCell {
 
   // The largest squared distance of a vertex from the origin (the seed).
   double max_radius2() const;
+  // The largest squared distance from the origin of a vertex the last cut made (a vertex of its
+  // new face): a lower bound on max_radius2() until the next cut.
+  double new_face_radius2() const { return new_face_radius2_; }
   // The faces as polygons, built on first use after a cut: vertices that coincide (snapped
   // degenerate vertices) are one.
   size_t vertex_count() const { return final().points.size(); }
@@ -105,6 +108,7 @@ class ConvexCell {
   std::vector<uint16_t> slots_;
   std::array<uint16_t, 256> border_from_;  // border edge leaving each plane, or kNone
 
+  double new_face_radius2_ = 0;
   mutable bool faces_valid_ = false;
   mutable bool rmax_valid_ = false;
   mutable double rmax2_ = 0;
