@@ -37,6 +37,7 @@ void ConvexCell::reset_cube(double h) {
   pos_.clear();
   for (int c = 0; c < 8; ++c) pos_.push_back({(c & 1) ? h : -h, (c & 2) ? h : -h, (c & 4) ? h : -h});
   border_from_.fill(kNone);
+  coincident_ = false;
   faces_valid_ = rmax_valid_ = false;
 }
 
@@ -131,6 +132,10 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
     tri_[next].adj[1] = id;  // the next triangle's edge (P, v') faces back here
     tri_[e.outer].adj[e.outer_slot] = id;
     pos_[id] = e.pos;
+    // An edge of zero length (snapping) from the new vertex: to the kept one, or to the next new one.
+    const Vec3 q = pos_[e.outer], r = border_[border_from_[e.v]].pos;
+    coincident_ |= ((e.pos.x == q.x) & (e.pos.y == q.y) & (e.pos.z == q.z)) |
+                   ((e.pos.x == r.x) & (e.pos.y == r.y) & (e.pos.z == r.z));
   }
   for (const Border& e : border_) border_from_[e.u] = kNone;
 
@@ -191,10 +196,11 @@ uint16_t ConvexCell::find(uint16_t t) const {
   return t;
 }
 
-void ConvexCell::build_faces() const {
+// Triangles at the same position (a snapped degenerate vertex) are one vertex: the union of
+// the triangles joined by edges of zero length.
+void ConvexCell::merge_coincident() const {
   Faces& f = faces_;
   const size_t nt = tri_.size();
-  // Triangles at the same position (a snapped degenerate vertex) are one vertex.
   parent_.resize(nt);
   for (size_t t = 0; t < nt; ++t) parent_[t] = uint16_t(t);
   for (size_t t = 0; t < nt; ++t)
@@ -214,6 +220,18 @@ void ConvexCell::build_faces() const {
       f.points.push_back(pos_[root]);
     }
     f.vertex_of_tri[t] = f.vertex_of_tri[root];
+  }
+}
+
+void ConvexCell::build_faces() const {
+  Faces& f = faces_;
+  const size_t nt = tri_.size();
+  if (!coincident_) {  // nearly every cell: no edge of zero length, every triangle its own vertex
+    f.points.assign(pos_.begin(), pos_.end());
+    f.vertex_of_tri.resize(nt);
+    for (size_t t = 0; t < nt; ++t) f.vertex_of_tri[t] = uint16_t(t);
+  } else {
+    merge_coincident();
   }
   // Faces: the triangles around each plane, walked counter-clockwise seen from outside.
   plane_tri_.assign(planes_.size(), kNone);

@@ -89,6 +89,7 @@ class ConvexCell {
     return faces_;
   }
   void build_faces() const;
+  void merge_coincident() const;
   bool compact_planes();
   uint16_t find(uint16_t t) const;
 
@@ -109,6 +110,7 @@ class ConvexCell {
   std::array<uint16_t, 256> border_from_;  // border edge leaving each plane, or kNone
 
   double new_face_radius2_ = 0;
+  bool coincident_ = false;  // an edge of zero length was made since reset_cube (snapping)
   mutable bool faces_valid_ = false;
   mutable bool rmax_valid_ = false;
   mutable double rmax2_ = 0;
