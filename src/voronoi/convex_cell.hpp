@@ -30,7 +30,7 @@ class ConvexCell {
   // The generators of the faces through a vertex.
   struct Names {
     uint8_t n = 0;
-    int32_t gen[kMaxGenerators];
+    int32_t gen[kMaxGenerators] = {};  // all set: readers may copy the whole array
     bool has(int32_t g) const {
       for (int i = 0; i < n; ++i)
         if (gen[i] == g) return true;

@@ -301,7 +301,7 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
   for (size_t v = 0; v < cell.vertex_count(); ++v) {
     // The vertex's name without the cell's own seed, which is implied; sorted.
     const int n = names[v].n;
-    std::copy(names[v].gen, names[v].gen + n, key);
+    std::copy_n(names[v].gen, ConvexCell::kMaxGenerators, key);  // all of them: a fixed-size copy, no call
     if (n == 3) {  // nearly every vertex: a sorting network, without the branches that mispredict
       auto order = [](int32_t& a, int32_t& b) {
         const int32_t lo = std::min(a, b), hi = std::max(a, b);
@@ -318,10 +318,10 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
     ch.vertex_info.push_back(uint8_t(n | (owned ? kOwnedBit : 0)));
     if (owned) {
       ch.owned_key_len.push_back(uint8_t(n));
-      ch.owned_keys.insert(ch.owned_keys.end(), key, key + n);
+      for (int a = 0; a < n; ++a) ch.owned_keys.push_back(key[a]);  // (a range insert called memmove)
       ch.owned_points.push_back(x + cell.vertex(v));
     } else {
-      ch.other_keys.insert(ch.other_keys.end(), key, key + n);
+      for (int a = 0; a < n; ++a) ch.other_keys.push_back(key[a]);
     }
   }
   if (!ch.wide && cell.vertex_count() > 256) {
