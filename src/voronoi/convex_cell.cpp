@@ -132,7 +132,9 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
     tri_[next].adj[1] = id;  // the next triangle's edge (P, v') faces back here
     tri_[e.outer].adj[e.outer_slot] = id;
     pos_[id] = e.pos;
-    // An edge of zero length (snapping) from the new vertex: to the kept one, or to the next new one.
+    // An edge of zero length (snapping) from the new vertex: to the kept one, or to the next new
+    // one; the test merge_coincident() makes on every edge, written without branches (with
+    // Vec3's == and ||, the cells took 5% longer).
     const Vec3 q = pos_[e.outer], r = border_[border_from_[e.v]].pos;
     coincident_ |= ((e.pos.x == q.x) & (e.pos.y == q.y) & (e.pos.z == q.z)) |
                    ((e.pos.x == r.x) & (e.pos.y == r.y) & (e.pos.z == r.z));

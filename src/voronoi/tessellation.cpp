@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -116,6 +117,18 @@ struct Neighbour {
   int32_t seed;
 };
 
+// Sorts a short range by insertion: for the few elements of a cell's neighbour list or a vertex
+// name, std::sort's partitioning and calls cost more than the sort itself.
+template <class T, class Less>
+void insertion_sort(T* first, T* last, Less less) {
+  for (T* k = first + (first != last); k < last; ++k) {
+    const T x = *k;
+    T* j = k;
+    for (; j > first && less(x, j[-1]); --j) *j = j[-1];
+    *j = x;
+  }
+}
+
 class CellBuilder {
  public:
   CellBuilder(const Domain& domain, const Sample& sample, double r)
@@ -176,20 +189,12 @@ class CellBuilder {
       if (!cut_by_plane(int32_t(p))) return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
     }
     gather_neighbours(i, x, nb);
-    // Nearest first, ties by seed. Some 25 neighbours: an insertion sort (std::sort's partition
-    // step and calls were a tenth of the cells' neighbour search); a long list, as protection
-    // seeds can make, by std::sort.
+    // Nearest first, ties by seed. Some 25 neighbours: by insertion (std::sort's partition step
+    // and calls were a tenth of the cells' neighbour search); a long list, as protection seeds
+    // can make, by std::sort.
     auto nearer = [](const Neighbour& a, const Neighbour& b) { return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed; };
-    if (nb.size() > 64) {
-      std::sort(nb.begin(), nb.end(), nearer);
-    } else {
-      for (size_t k = 1; k < nb.size(); ++k) {
-        const Neighbour x = nb[k];
-        size_t j = k;
-        for (; j > 0 && nearer(x, nb[j - 1]); --j) nb[j] = nb[j - 1];
-        nb[j] = x;
-      }
-    }
+    if (nb.size() > 64) std::sort(nb.begin(), nb.end(), nearer);
+    else insertion_sort(nb.data(), nb.data() + nb.size(), nearer);
     // Security radius: a seed farther than twice the cell's radius cannot cut it. The cell's
     // radius is a pass over its vertices; after a cut the farthest vertex of the new face gives
     // a lower bound on it, and a neighbour within that is cut without the pass (the pass after
@@ -308,9 +313,8 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
         a = lo, b = hi;
       };
       order(key[0], key[1]), order(key[1], key[2]), order(key[0], key[1]);
-    } else {  // at most kMaxGenerators: by insertion (std::sort here also drew a false GCC 12 -Warray-bounds)
-      for (int a = 1; a < n; ++a)
-        for (int b = a; b > 0 && key[b] < key[b - 1]; --b) std::swap(key[b], key[b - 1]);
+    } else {  // at most kMaxGenerators (std::sort here also drew a false GCC 12 -Warray-bounds)
+      insertion_sort(key, key + n, std::less<int32_t>());
     }
     // This cell owns the vertex iff its seed is the smallest built seed of the name (owner_of).
     bool owned = true;
