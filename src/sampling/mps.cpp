@@ -331,67 +331,89 @@ class Sampler {
   // and the marks of a level's seeds serve the next level too.
   void mark_grandchildren_in_one_ball(size_t first) {
     const auto& g = s_.grid;
-    const double h = g.side / 4;
     grandchild_marks_.resize(s_.cube_seed.size(), 0);
     const int64_t layer = int64_t(g.nx) * g.ny;
     const int k_begin = int(s_.cube_offset / layer), k_end = k_begin + int(s_.cube_seed.size() / layer);
-#pragma omp parallel for schedule(static)
-    for (size_t id = first; id < s_.seeds.size(); ++id) {
-      const Vec3 q = s_.seeds[id];
-      int c[3];
-      g.locate(q, c[0], c[1], c[2]);
-      // Per axis, for the cubes d = -2..2 steps from q's and each of their quarters: the squared
-      // distance from q to the quarter's farther face (as in children_in_one_ball), and its
-      // smallest value over the cube's four quarters.
-      double far2[3][5][4], nearest2[3][5];
-      for (int a = 0; a < 3; ++a)
-        for (int d = 0; d < 5; ++d) {
-          const double x = q[a], l = g.origin[a] + (c[a] + d - 2) * g.side;
-          for (int u = 0; u < 4; ++u) {
-            const double f = std::max(x - (l + u * h), l + (u + 1) * h - x);
-            far2[a][d][u] = f * f;
-          }
-          nearest2[a][d] = std::min({far2[a][d][0], far2[a][d][1], far2[a][d][2], far2[a][d][3]});
+    // A seed marks cubes up to two layers from its own. The seeds are split by slabs of
+    // kMarkSlab layers, and the slabs of one parity are marked in parallel: their seeds' cubes
+    // are apart, so no two threads write one cube and the marks need no atomic OR (that was a
+    // fifth of the marking time). Marks are ORed, so the order does not matter. (A mark lost
+    // would only keep a covered cube: work, not a different sample.)
+    constexpr int kMarkSlab = 4;
+    const int slabs = std::max(1, (k_end - k_begin + kMarkSlab - 1) / kMarkSlab);
+    auto slab_of = [&](Vec3 q) {
+      int i, j, k;
+      g.locate(q, i, j, k);
+      return size_t(std::clamp((k - k_begin) / kMarkSlab, 0, slabs - 1));
+    };
+    std::vector<uint32_t> slab_begin(size_t(slabs) + 1, 0), by_slab(s_.seeds.size() - first);
+    for (size_t id = first; id < s_.seeds.size(); ++id) ++slab_begin[slab_of(s_.seeds[id]) + 1];
+    for (int sl = 0; sl < slabs; ++sl) slab_begin[sl + 1] += slab_begin[sl];
+    std::vector<uint32_t> fill(slab_begin.begin(), slab_begin.end() - 1);
+    for (size_t id = first; id < s_.seeds.size(); ++id) by_slab[fill[slab_of(s_.seeds[id])]++] = uint32_t(id);
+    for (int parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int sl = parity; sl < slabs; sl += 2)
+        for (uint32_t at = slab_begin[sl]; at < slab_begin[sl + 1]; ++at) mark_around(s_.seeds[by_slab[at]], k_begin, k_end);
+    }
+  }
+
+  // The marks of seed q on the cubes of layers [k_begin, k_end) around it.
+  void mark_around(Vec3 q, int k_begin, int k_end) {
+    const auto& g = s_.grid;
+    const double h = g.side / 4;
+    int c[3];
+    g.locate(q, c[0], c[1], c[2]);
+    // Per axis, for the cubes d = -2..2 steps from q's and each of their quarters: the squared
+    // distance from q to the quarter's farther face (as in children_in_one_ball), and its
+    // smallest value over the cube's four quarters.
+    double far2[3][5][4], nearest2[3][5];
+    for (int a = 0; a < 3; ++a)
+      for (int d = 0; d < 5; ++d) {
+        const double x = q[a], l = g.origin[a] + (c[a] + d - 2) * g.side;
+        for (int u = 0; u < 4; ++u) {
+          const double f = std::max(x - (l + u * h), l + (u + 1) * h - x);
+          far2[a][d][u] = f * f;
         }
-      // Only cubes with a grandchild in the ball (the smallest terms along each axis fit), other
-      // than q's own, which holds a seed and is never refined.
-      for (int dk = 0; dk < 5; ++dk) {
-        const int k = c[2] + dk - 2;
-        if (k < k_begin || k >= k_end) continue;
-        for (int dj = 0; dj < 5; ++dj) {
-          const int j = c[1] + dj - 2;
-          if (j < 0 || j >= g.ny || nearest2[2][dk] + nearest2[1][dj] > r2_) continue;
-          for (int di = 0; di < 5; ++di) {
-            const int i = c[0] + di - 2;
-            if (i < 0 || i >= g.nx || nearest2[2][dk] + nearest2[1][dj] + nearest2[0][di] > r2_) continue;
-            if (di == 2 && dj == 2 && dk == 2) continue;
-            uint64_t in = 0;
+        nearest2[a][d] = std::min({far2[a][d][0], far2[a][d][1], far2[a][d][2], far2[a][d][3]});
+      }
+    // Only cubes with a grandchild in the ball (the smallest terms along each axis fit), other
+    // than q's own, which holds a seed and is never refined.
+    for (int dk = 0; dk < 5; ++dk) {
+      const int k = c[2] + dk - 2;
+      if (k < k_begin || k >= k_end) continue;
+      for (int dj = 0; dj < 5; ++dj) {
+        const int j = c[1] + dj - 2;
+        if (j < 0 || j >= g.ny || nearest2[2][dk] + nearest2[1][dj] > r2_) continue;
+        for (int di = 0; di < 5; ++di) {
+          const int i = c[0] + di - 2;
+          if (i < 0 || i >= g.nx || nearest2[2][dk] + nearest2[1][dj] + nearest2[0][di] > r2_) continue;
+          if (di == 2 && dj == 2 && dk == 2) continue;
+          uint64_t in = 0;
 #ifdef __SSE2__
-            // A row's four tests as two vector compares (the compiler kept them scalar, a
-            // compare and a flag per grandchild: most of the marking time); the same tests.
-            const __m128d x01 = _mm_loadu_pd(&far2[0][di][0]), x23 = _mm_loadu_pd(&far2[0][di][2]);
+          // A row's four tests as two vector compares (the compiler kept them scalar, a
+          // compare and a flag per grandchild: most of the marking time); the same tests.
+          const __m128d x01 = _mm_loadu_pd(&far2[0][di][0]), x23 = _mm_loadu_pd(&far2[0][di][2]);
 #endif
-            for (int z = 0; z < 4; ++z)
-              for (int y = 0; y < 4; ++y) {
-                const double room = r2_ - far2[2][dk][z] - far2[1][dj][y];
+          for (int z = 0; z < 4; ++z)
+            for (int y = 0; y < 4; ++y) {
+              const double room = r2_ - far2[2][dk][z] - far2[1][dj][y];
 #ifdef __SSE2__
-                const __m128d limit = _mm_set1_pd(room);
-                const uint64_t row = uint64_t(_mm_movemask_pd(_mm_cmple_pd(x01, limit)) |
-                                              _mm_movemask_pd(_mm_cmple_pd(x23, limit)) << 2);
+              const __m128d limit = _mm_set1_pd(room);
+              const uint64_t row = uint64_t(_mm_movemask_pd(_mm_cmple_pd(x01, limit)) |
+                                            _mm_movemask_pd(_mm_cmple_pd(x23, limit)) << 2);
 #else
-                uint64_t row = 0;
-                for (int x = 0; x < 4; ++x) row |= uint64_t(far2[0][di][x] <= room) << x;
+              uint64_t row = 0;
+              for (int x = 0; x < 4; ++x) row |= uint64_t(far2[0][di][x] <= room) << x;
 #endif
-                in |= row << (4 * y + 16 * z);
-              }
-            if (in)
-              std::atomic_ref<uint64_t>(grandchild_marks_[g.index(i, j, k) - s_.cube_offset])
-                  .fetch_or(in, std::memory_order_relaxed);
-          }
+              in |= row << (4 * y + 16 * z);
+            }
+          if (in) grandchild_marks_[g.index(i, j, k) - s_.cube_offset] |= in;
         }
       }
     }
   }
+
   // The children of sub-cube (sx, sy, sz) of base cube b at level 0 or 1 that the marks show to be
   // covered (bits as children_in_one_ball): at level 1, those in one ball; at level 0, those
   // whose eight children each are.
