@@ -296,6 +296,41 @@ class Sampler {
     return false;
   }
 
+  // The seeds of a base cube's stencil, gathered by the first dart into one of its sub-cubes
+  // and read by the next ones (a base cube's sub-cubes are adjacent in the active lists): the
+  // nearest kNearestCubes cubes' at once, the rest at the first dart they do not reject.
+  struct StencilSeeds {
+    int64_t base = -1;
+    int i0 = 0, j0 = 0;
+    bool interior = false;  // the stencil lies inside the grid and the window
+    bool outer_known = false;
+    std::vector<Vec3> nearest, outer;
+  };
+  // seed_within_r(p, b), for darts into base cube b's sub-cubes, through `cache`.
+  bool seed_within_r(Vec3 p, int64_t b, StencilSeeds& cache) const {
+    int32_t found[kStencilSize];
+    if (cache.base != b) {
+      int k0;
+      s_.grid.coords(b, cache.i0, cache.j0, k0);
+      const int n = occupied_stencil(b, cache.i0, cache.j0, found, 0, kNearestCubes);
+      cache.base = b, cache.interior = n >= 0, cache.outer_known = false;
+      cache.nearest.clear();
+      if (cache.interior) for_found_seeds(found, n, [&](Vec3 s) { cache.nearest.push_back(s); });
+    }
+    if (!cache.interior) return seed_within_r(p, b);
+    bool hit = false;
+    for (const Vec3& s : cache.nearest) hit |= norm2(s - p) < r2_;
+    if (hit) return true;
+    if (!cache.outer_known) {
+      cache.outer.clear();
+      for_found_seeds(found, occupied_stencil(b, cache.i0, cache.j0, found, kNearestCubes),
+                      [&](Vec3 s) { cache.outer.push_back(s); });
+      cache.outer_known = true;
+    }
+    for (const Vec3& s : cache.outer) hit |= norm2(s - p) < r2_;
+    return hit;
+  }
+
   // The children of the parent [lo, lo + 2h]^3 inside one seed's ball, as bits (child dx + 2 dy +
   // 4 dz). A child is in seed q's ball iff its farthest corner is: iff the squared distances from
   // q to the child's farther face along each axis sum to at most r^2. Eight children in ten are
@@ -918,11 +953,12 @@ class Sampler {
     size_t darts = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : darts)
     for (size_t ch = 0; ch < chunks; ++ch) {
+      StencilSeeds stencil_seeds;
       for (const ActiveCube& c : active.parts[ch]) {
         if (cube_entry(c.base) != -1) continue;  // a seed covers the whole base cube
         const Vec3 lo = base_origin(c.base) + Vec3{c.sx * h, c.sy * h, c.sz() * h};
         darts += size_t(throw_darts(c, level, round, lo, h, [&] { return boundary_slot(c.base); }, poisson,
-                                    [&](Vec3 p) { return seed_within_r(p, c.base); }, out.parts[ch]));
+                                    [&](Vec3 p) { return seed_within_r(p, c.base, stencil_seeds); }, out.parts[ch]));
       }
     }
     out.thrown = darts;
