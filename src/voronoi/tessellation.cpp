@@ -134,43 +134,24 @@ class CellBuilder {
   CellBuilder(const Domain& domain, const Sample& sample, double r)
       : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)), reach_(2 * r * (1 + 1e-9)) {
     const BackgroundGrid& g = sample.grid;
-    // The cubes (di, dj, dk) away whose distance from the seed's cube is below the reach, as runs
-    // along x: |di| <= w for each (dj, dk) with such a w.
+    // Cubes (di, dj, dk) away whose distance from the seed's cube is below the reach.
     const int span = int(std::ceil(reach_ / g.side));
-    auto gap = [&](int d) { return std::max(std::abs(d) - 1, 0) * g.side; };
-    size_t cubes = 0;
     for (int dk = -span; dk <= span; ++dk)
-      for (int dj = -span; dj <= span; ++dj) {
-        int w = -1;
-        while (w < span && gap(w + 1) * gap(w + 1) + gap(dj) * gap(dj) + gap(dk) * gap(dk) < reach_ * reach_) ++w;
-        if (w < 0) continue;
-        stencil_rows_.push_back({(int64_t(dk) * g.ny + dj) * g.nx - w, 2 * w + 1});
-        cubes += size_t(2 * w + 1);
-      }
-    // Cubes of side r / sqrt(3) and a reach of 2r: four cubes each way, runs of at most 9 cubes
-    // in at most 9^2 rows.
-    if (span > 4 || stencil_rows_.size() > size_t(kMaxRows))
-      fail(ErrorKind::Internal, fmt::format("the cells' grid stencil has {} cubes in {} rows", cubes, stencil_rows_.size()));
+      for (int dj = -span; dj <= span; ++dj)
+        for (int di = -span; di <= span; ++di) {
+          auto gap = [&](int d) { return std::max(std::abs(d) - 1, 0) * g.side; };
+          if (gap(di) * gap(di) + gap(dj) * gap(dj) + gap(dk) * gap(dk) >= reach_ * reach_) continue;
+          stencil_offsets_.push_back((int64_t(dk) * g.ny + dj) * g.nx + di);
+        }
+    // Cubes of side r / sqrt(3) and a reach of 2r: four cubes each way, at most 9^3 of them.
+    if (stencil_offsets_.size() > size_t(kMaxStencil))
+      fail(ErrorKind::Internal, fmt::format("the cells' grid stencil has {} cubes", stencil_offsets_.size()));
     stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
-    // The seeds are numbered in the order of their cubes (Sample::seeds), so a run of cubes holds
-    // one range of seed ids, read from the first id of each cube and the next.
-    const std::vector<int32_t>& cube_seed = sample.cube_seed;
-    first_seed_of_cube_.resize(cube_seed.size() + 1);
-    int32_t next = 0;
-    for (size_t c = 0; c < cube_seed.size(); ++c) {
-      first_seed_of_cube_[c] = next;
-      sample.for_seeds_of_entry(cube_seed[c], [&](int32_t id) { in_cube_order_ &= id == next++; });
-    }
-    first_seed_of_cube_[cube_seed.size()] = next;
-    in_cube_order_ &= size_t(next) == sample.seeds.size();
     if (!domain.convex) {
       generators_.emplace(domain);
       triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
     }
   }
-
-  // Frees the seed ranges of the grid once every cell is built (before the peak of assembly).
-  void release_grid() { std::vector<int32_t>().swap(first_seed_of_cube_); }
 
   // A clipper for one thread, or none for a convex domain.
   std::unique_ptr<CellClipper> make_clipper() const {
@@ -277,34 +258,26 @@ class CellBuilder {
     g.locate(x, ci, cj, ck);
     const int64_t slot = g.index(ci, cj, ck) - sample_.cube_offset;
     const int s = stencil_span_;
-    if (in_cube_order_ && ci >= s && ci + s < g.nx && cj >= s && cj + s < g.ny && slot >= stencil_reach_ &&
+    if (ci >= s && ci + s < g.nx && cj >= s && cj + s < g.ny && slot >= stencil_reach_ &&
         slot + stencil_reach_ < int64_t(sample_.cube_seed.size())) {
-      // Most seeds: the stencil's 69 runs of cubes as ranges of seed ids, each listed as a fixed
-      // count of ids of which only the run's own are kept, and the seeds within reach kept
-      // without a branch per seed. A loop over each run's seeds mispredicted its exit, and
-      // reading the stencil's 493 cubes one by one cost 3-7% more of the cells' time.
-      const int32_t* first = first_seed_of_cube_.data() + slot;
-      int32_t ids[kMaxRowSeeds * kMaxRows + kMaxRowSeeds];
-      int n = 0;
-      bool crowded = false;  // a run with more seeds than cubes (protection seeds)
-      for (const StencilRow& row : stencil_rows_) {
-        const int32_t a = first[row.offset], count = first[row.offset + row.length] - a;
-        for (int t = 0; t < kMaxRowSeeds; ++t) ids[n + t] = a + t;  // a fixed count: no branch on the run's
-        n += std::min(count, kMaxRowSeeds);
-        crowded |= count > kMaxRowSeeds;
+      // Most seeds: every cube within reach of the seed's cube, read through index offsets
+      // without a branch per cube (six in seven are empty, which a branch mispredicts), then the
+      // seeds within reach kept without a branch per seed.
+      int32_t found[kMaxStencil];
+      const int n = sample_.occupied_entries(slot, stencil_offsets_, found);
+      nb.resize(size_t(n));
+      size_t kept = 0;
+      for (int k = 0; k < n; ++k) {
+        const int32_t j = found[k];
+        if (j < 0) continue;  // several protection seeds: below
+        const double d2 = norm2(sample_.seeds[j] - x);
+        nb[kept] = {d2, j};
+        kept += (d2 <= reach2) & (j != i);
       }
-      if (!crowded) {
-        nb.resize(size_t(n));
-        size_t kept = 0;
-        for (int k = 0; k < n; ++k) {
-          const int32_t j = ids[k];
-          const double d2 = norm2(sample_.seeds[j] - x);
-          nb[kept] = {d2, j};
-          kept += (d2 <= reach2) & (j != i);
-        }
-        nb.resize(kept);
-        return;
-      }
+      nb.resize(kept);
+      for (int k = 0; k < n; ++k)
+        if (found[k] < -1) sample_.for_seeds_of_entry(found[k], keep_if_in_reach);
+      return;
     }
     nb.clear();
     g.for_cubes_near(x, reach_, [&](int64_t c) { sample_.for_seeds_in_cube(c, keep_if_in_reach); });
@@ -315,17 +288,10 @@ class CellBuilder {
   const Sample& sample_;
   double r_, eps_;
   // Voronoi neighbours are at most 2r apart (Lemma 1); the cubes that may hold one of a seed in
-  // a given cube, as runs along x from an index offset, and how far they reach along an axis and
-  // in the index.
-  struct StencilRow {
-    int64_t offset;  // of its first cube's index from the seed's cube
-    int length;
-  };
-  static constexpr int kMaxRows = 81, kMaxRowSeeds = 9;  // a run is at most 9 cubes
+  // a given cube, as index offsets, and how far they reach along an axis and in the index.
+  static constexpr int kMaxStencil = 729;
   double reach_ = 0;
-  std::vector<StencilRow> stencil_rows_;
-  std::vector<int32_t> first_seed_of_cube_;  // per cube of the window, and one past the last
-  bool in_cube_order_ = true;
+  std::vector<int64_t> stencil_offsets_;
   int stencil_span_ = 0;
   int64_t stencil_reach_ = 0;
   std::optional<SurfaceGenerators> generators_;
@@ -439,7 +405,6 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   PolyMesh mesh;
   // The grid is not needed any more: free it before the peak.
   std::vector<int32_t>().swap(sample.cube_seed);
-  builder.release_grid();
   if (n == sample.seeds.size()) mesh.seeds = std::move(sample.seeds);
   else mesh.seeds.assign(sample.seeds.begin() + built.begin, sample.seeds.begin() + built.end);
   std::vector<int64_t> owned_base(n + 1, 0);
