@@ -919,9 +919,9 @@ class Sampler {
   };
 
   // Throws round `round`'s darts into active cube c of `level` (low corner lo, side h; slot_of()
-  // gives its boundary slot) and appends those inside the domain that
-  // `near_seed(p)` does not reject to `out`; returns how many it threw. A cube's darts depend
-  // only on its place, level and round, so whoever throws them throws the same ones.
+  // gives its boundary slot) and appends to `out` those inside the domain that `near_seed(p)`
+  // does not reject; returns how many it threw. A cube's darts depend only on its place, level
+  // and round, so whoever throws them throws the same ones.
   template <class Slot, class NearSeed>
   int throw_darts(const ActiveCube& c, int level, int round, Vec3 lo, double h, Slot slot_of, const Poisson& poisson,
                   NearSeed near_seed, std::vector<Candidate>& out) const {
