@@ -262,23 +262,21 @@ class Sampler {
     return offsets;
   }
 
-  // Is a seed closer than r to p, a point of base cube b (which holds no seed)? Most darts after
-  // the first level are, and stop at the first one found, nearest cubes first.
-  bool seed_within_r(Vec3 p, int64_t b) const {
+  // Is one of `seeds` closer than r to p? Without a branch per seed: there are few, and one of
+  // them mostly is.
+  bool any_within_r(std::span<const Vec3> seeds, Vec3 p) const {
+    bool hit = false;
+    for (const Vec3& s : seeds) hit |= norm2(s - p) < r2_;
+    return hit;
+  }
+
+  // Is a seed closer than r to p, a point of base cube b (which holds no seed), when b's stencil
+  // leaves the grid or the window (occupied_stencil() gives -1): its cubes one by one, nearest
+  // first, skipping those beyond r and outside the grid.
+  bool seed_within_r_near_edge(Vec3 p, int64_t b) const {
     const auto& g = s_.grid;
     int i0, j0, k0;
     g.coords(b, i0, j0, k0);
-    int32_t found[kStencilSize];
-    // Most darts after the first level meet a seed, most often in a cube next to theirs: those
-    // cubes first.
-    const int n = occupied_stencil(b, i0, j0, found, 0, kNearestCubes);
-    if (n >= 0) {
-      bool hit = false;
-      for_found_seeds(found, n, [&](Vec3 s) { hit |= norm2(s - p) < r2_; });
-      if (hit) return true;
-      for_found_seeds(found, occupied_stencil(b, i0, j0, found, kNearestCubes), [&](Vec3 s) { hit |= norm2(s - p) < r2_; });
-      return hit;
-    }
     const Vec3 q = p - g.origin;
     double gap[3][5];  // squared distance from p to the slab of cube c0 + d along each axis
     for (int d = -2; d <= 2; ++d) {
@@ -306,7 +304,8 @@ class Sampler {
     bool outer_known = false;
     std::vector<Vec3> nearest, outer;
   };
-  // seed_within_r(p, b), for darts into base cube b's sub-cubes, through `cache`.
+  // Is a seed closer than r to p, a point of base cube b (which holds no seed)? For darts into
+  // b's sub-cubes, through `cache`.
   bool seed_within_r(Vec3 p, int64_t b, StencilSeeds& cache) const {
     int32_t found[kStencilSize];
     if (cache.base != b) {
@@ -317,18 +316,17 @@ class Sampler {
       cache.nearest.clear();
       if (cache.interior) for_found_seeds(found, n, [&](Vec3 s) { cache.nearest.push_back(s); });
     }
-    if (!cache.interior) return seed_within_r(p, b);
-    bool hit = false;
-    for (const Vec3& s : cache.nearest) hit |= norm2(s - p) < r2_;
-    if (hit) return true;
+    if (!cache.interior) return seed_within_r_near_edge(p, b);
+    // Most darts after the first level meet a seed, most often in a cube next to theirs: those
+    // cubes first.
+    if (any_within_r(cache.nearest, p)) return true;
     if (!cache.outer_known) {
       cache.outer.clear();
       for_found_seeds(found, occupied_stencil(b, cache.i0, cache.j0, found, kNearestCubes),
                       [&](Vec3 s) { cache.outer.push_back(s); });
       cache.outer_known = true;
     }
-    for (const Vec3& s : cache.outer) hit |= norm2(s - p) < r2_;
-    return hit;
+    return any_within_r(cache.outer, p);
   }
 
   // The children of the parent [lo, lo + 2h]^3 inside one seed's ball, as bits (child dx + 2 dy +
@@ -381,11 +379,11 @@ class Sampler {
       g.locate(q, i, j, k);
       return size_t(std::clamp((k - k_begin) / kMarkSlab, 0, slabs - 1));
     };
-    std::vector<uint32_t> slab_begin(size_t(slabs) + 1, 0), by_slab(s_.seeds.size() - first);
-    for (size_t id = first; id < s_.seeds.size(); ++id) ++slab_begin[slab_of(s_.seeds[id]) + 1];
+    std::vector<uint32_t> slab_begin(size_t(slabs) + 1, 0), by_slab(s_.seeds.size() - first), slab(by_slab.size());
+    for (size_t id = first; id < s_.seeds.size(); ++id) ++slab_begin[(slab[id - first] = uint32_t(slab_of(s_.seeds[id]))) + 1];
     for (int sl = 0; sl < slabs; ++sl) slab_begin[sl + 1] += slab_begin[sl];
     std::vector<uint32_t> fill(slab_begin.begin(), slab_begin.end() - 1);
-    for (size_t id = first; id < s_.seeds.size(); ++id) by_slab[fill[slab_of(s_.seeds[id])]++] = uint32_t(id);
+    for (size_t id = first; id < s_.seeds.size(); ++id) by_slab[fill[slab[id - first]]++] = uint32_t(id);
     for (int parity = 0; parity < 2; ++parity) {
 #pragma omp parallel for schedule(dynamic, 1)
       for (int sl = parity; sl < slabs; sl += 2)
@@ -1268,15 +1266,10 @@ class Sampler {
           }
           kept[ch].push_back({c.base, 2 * c.sx + dx, 2 * c.sy + dy, (2 * c.sz() + dz) | inside});
           if (throw_next) {
-            auto near_seed = [&](Vec3 p) {
-              bool hit = false;  // without a branch per seed: a few seeds, one of which mostly hits
-              for (const Vec3& q : near) hit |= norm2(q - p) < r2_;
-              return hit;
-            };
             const ActiveCube& k = kept[ch].back();  // its corner as throw_round rounds it
             const Vec3 k_lo = base_lo + Vec3{k.sx * h, k.sy * h, k.sz() * h};
-            thrown += size_t(throw_darts(k, next_level, 0, k_lo, h, [slot] { return slot; }, poisson, near_seed,
-                                         darts.parts[ch]));
+            thrown += size_t(throw_darts(k, next_level, 0, k_lo, h, [slot] { return slot; }, poisson,
+                                         [&](Vec3 p) { return any_within_r(near, p); }, darts.parts[ch]));
           }
         }
       }
