@@ -114,6 +114,25 @@ MeshCheck check_mesh(const PolyMesh& m) {
     EdgeUses edges;
 #pragma omp for schedule(dynamic, 256) reduction(+ : unmatched, open, nonpositive, twins, toward_earlier)
     for (size_t c = 0; c < m.cell_count(); ++c) {
+      // The faces of the later neighbours of the cell two ahead asked for now: they lie up to a
+      // few layers of cells away in memory (cells are in grid order), out of the core's cache,
+      // and the reads through them (faces, then vertices) are dependent loads the core cannot
+      // overlap. Validation at 1e6 cells 0.937 -> 0.853 s (median of 5; four ahead 0.871 s,
+      // eight 0.924 s). (Written inline: GCC finds a function that only prefetches pure and
+      // drops the calls.)
+      if (const size_t a = c + 2; a < m.cell_count()) {
+        for (int64_t f = m.cell_face_begin[a]; f < m.cell_face_begin[a + 1]; ++f) {
+          const int32_t g = m.face_generator[f];
+          if (g < 0 || size_t(g) < a || is_other_piece_generator(g)) continue;
+          const int64_t first = m.cell_face_begin[g], last = m.cell_face_begin[g + 1];
+          __builtin_prefetch(&m.face_generator[first]);
+          __builtin_prefetch(&m.face_vertex_begin[first]);
+          __builtin_prefetch(&m.face_vertex_begin[last]);
+          constexpr int64_t kPerLine = 64 / sizeof(m.face_vertices[0]);
+          for (int64_t v = m.face_vertex_begin[first], end = m.face_vertex_begin[last]; v < end; v += kPerLine)
+            __builtin_prefetch(&m.face_vertices[v]);
+        }
+      }
       std::string problem;
       edges.clear();
       for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
