@@ -106,6 +106,10 @@ struct SamplingStats {
   size_t seeds = 0;              // all seeds, protection seeds included
   size_t edge_seeds = 0, vertex_seeds = 0;  // protection of reflex features (paper §2.2)
   size_t darts = 0;              // darts thrown in all rounds
+  // Candidates decided in arrival order (a partitioned run counts the neighbours' it reads), and
+  // the decisions looked up doing so: the work of the acceptance, which stays a small multiple
+  // of the candidates.
+  size_t candidates = 0, decision_lookups = 0;
   size_t levels = 0;             // refinement levels used
   size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
   double base_cube_side = 0;

@@ -975,6 +975,7 @@ class Sampler {
     round_set.all = concatenate(round.parts);
     if (partition_) add_neighbours_candidates(round_set);
     const std::vector<Candidate>& all = round_set.all;
+    s_.stats.candidates += all.size();
     const std::vector<uint8_t> accepted = accept_in_arrival_order(round_set);
     // New seeds are numbered in Morton order of their cubes, so the seeds that neighbour
     // queries read together lie together in memory (the arrival order scatters them). A
@@ -1129,11 +1130,23 @@ class Sampler {
     }
     std::vector<std::atomic<uint8_t>> state(n);  // by entry
     for (auto& s : state) s.store(Undecided, std::memory_order_relaxed);
+    // The pass in which an entry was last found blocked (0: none). A blocked entry reached again
+    // in that pass through another's recursion answers at once: otherwise a cluster of k
+    // mutually conflicting candidates whose earliest waits for a neighbour rank's decision is
+    // walked along every descending chain, some 2^k times, up to the depth bound (a partitioned
+    // run at 2e5 cells spent 3.7 s in one round so). The answer is only postponed to a later
+    // pass, and the outcome, greedy in arrival order, does not depend on when it is decided.
+    std::vector<std::atomic<uint32_t>> blocked_in_pass(n);
+    for (auto& b : blocked_in_pass) b.store(0, std::memory_order_relaxed);
+    uint32_t pass = 0;
+    constexpr int kDecideDepth = 16;
     for (;;) {
       bool undecided = n > 0, progress = true;
       while (undecided && progress) {
         undecided = progress = false;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided, progress)
+        ++pass;
+        size_t lookups = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(|| : undecided, progress) reduction(+ : lookups)
         for (size_t e = 0; e < n; ++e) {
           if (state[e].load(std::memory_order_relaxed) != Undecided) continue;
           if (!rs.source.empty() && rs.source[entry[e].index] != 0) continue;  // a neighbour decides it
@@ -1141,9 +1154,12 @@ class Sampler {
           // first, to a bounded depth: in bucket order those are often not visited yet, and
           // leaving them to the next pass took 4 to 6 passes.
           auto decide = [&](auto& self, uint32_t f, int depth) -> uint8_t {
+            ++lookups;
             const uint8_t known = state[f].load(std::memory_order_acquire);
             if (known != Undecided) return known;
             if (!rs.source.empty() && rs.source[entry[f].index] != 0) return Undecided;  // until traded
+            // (A pass's own visit to an entry always looks again: its blockers may be decided by now.)
+            if (depth < kDecideDepth && blocked_in_pass[f].load(std::memory_order_relaxed) == pass) return Undecided;
             const Candidate& me = entry[f].c;
             int ci, cj, ck;
             cell(me.p, ci, cj, ck);
@@ -1165,13 +1181,17 @@ class Sampler {
                     blocked |= so == Undecided;
                   }
                 }
-            if (blocked) return Undecided;
+            if (blocked) {
+              blocked_in_pass[f].store(pass, std::memory_order_relaxed);
+              return Undecided;
+            }
             state[f].store(Accepted, std::memory_order_release);
             progress = true;
             return Accepted;
           };
-          if (decide(decide, uint32_t(e), 16) == Undecided) undecided = true;
+          if (decide(decide, uint32_t(e), kDecideDepth) == Undecided) undecided = true;
         }
+        s_.stats.decision_lookups += lookups;
       }
       if (!partition_) break;
       // Trade decisions with the neighbours, then stop when no rank has an undecided candidate
