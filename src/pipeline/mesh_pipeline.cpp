@@ -64,8 +64,10 @@ void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run) {
   if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
   if (!(opt.weld >= 0) || !(opt.weld < opt.r))
     fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {}", opt.weld));
-  const double cubes = domain.bounds.size().x * domain.bounds.size().y * domain.bounds.size().z /
-                       std::pow(opt.r / std::sqrt(3.0), 3);
+  const double side = opt.r / std::sqrt(3.0);
+  const Vec3 size = domain.bounds.size();
+  const double cubes = BackgroundGrid::cubes_along(size.x, side) * BackgroundGrid::cubes_along(size.y, side) *
+                       BackgroundGrid::cubes_along(size.z, side);
   if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
     fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
