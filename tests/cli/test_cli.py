@@ -2,6 +2,7 @@
 meshio 7). Run with Debian's /usr/bin/python3 (python3-vtk9, python3-meshio)."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -391,4 +392,9 @@ leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
 check(not leftovers, f"temporary files left: {leftovers}")
 
 print(f"{passed} passed, {len(failures)} failed")
+# The outputs (some 160 MB) are kept only for a failure to be looked at.
+if failures:
+    print(f"outputs kept in {tmp}")
+else:
+    shutil.rmtree(tmp)
 sys.exit(1 if failures else 0)

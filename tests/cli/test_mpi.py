@@ -6,6 +6,7 @@
   coordinates, bit for bit; too many ranks for the grid is a usage error that leaves no file."""
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -106,4 +107,9 @@ if p.returncode != 2 or "layers of sampling cubes" not in p.stderr or os.path.ex
 for f in failures:
     print("FAIL:", f)
 print(f"{'FAILED' if failures else 'passed'}: MPI ensembles and partitioned meshes on 1, 2 and 3 ranks")
+# The outputs are kept only for a failure to be looked at.
+if failures:
+    print(f"outputs kept in {tmp}")
+else:
+    shutil.rmtree(tmp)
 sys.exit(1 if failures else 0)
