@@ -20,8 +20,9 @@ Slab slab_of(int rank, int ranks, int nz) {
   if (ranks > 1 && nz / ranks < kCellHaloLayers)
     fail(ErrorKind::Usage,
          fmt::format("--partition over {} ranks needs at least {} layers of sampling cubes (side r/sqrt(3)) per rank "
-                     "along z, and the grid has {} layers: use fewer ranks or a smaller r",
-                     ranks, kCellHaloLayers, nz));
+                     "along z, and the grid has {} layers ({} of them its empty margins): use fewer ranks or a "
+                     "smaller r",
+                     ranks, kCellHaloLayers, nz, 2 * BackgroundGrid::kMargin));
   Slab s;
   s.owned_begin = int(int64_t(nz) * rank / ranks);
   s.owned_end = int(int64_t(nz) * (rank + 1) / ranks);

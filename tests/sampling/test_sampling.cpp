@@ -35,6 +35,28 @@ TEST(Sampling, EmptyDiskAndMaximalOnABox) {
   }
 }
 
+// The grid's margin: every seed's cube, protection seeds on the surface included, is at least
+// kMargin cubes from the grid's sides, so the sampler's and the cells' stencils around it (two
+// and four cubes) are read without bounds checks.
+TEST(Sampling, EverySeedIsAMarginAwayFromTheGridSides) {
+  for (const std::string& model : {std::string("box"), std::string("plate_holes.STL")}) {
+    Domain d = model == "box" ? make_box_domain({0, 0, 0}, {1, 1.5, 0.7}) : load_domain(test::model(model));
+    const double r = d.bounds.diagonal() / 20;
+    Sample s = sample_maximal_poisson_disk(d, r, 5);
+    const BackgroundGrid& g = s.grid;
+    const int m = BackgroundGrid::kMargin;
+    EXPECT_GE(m, int(std::ceil(2 * r / g.side))) << "the cells' stencil reaches past the margin";
+    ASSERT_FALSE(s.seeds.empty());
+    for (Vec3 p : s.seeds) {
+      const Vec3 q = p - g.origin;
+      const double i = q.x / g.side, j = q.y / g.side, k = q.z / g.side;
+      ASSERT_TRUE(i >= m && i < g.nx - m && j >= m && j < g.ny - m && k >= m && k < g.nz - m)
+          << model << ": seed (" << p.x << ", " << p.y << ", " << p.z << ") in cube (" << i << ", " << j << ", " << k
+          << ") of " << g.nx << " x " << g.ny << " x " << g.nz;
+    }
+  }
+}
+
 TEST(Sampling, SameSeedSameSampleForAnyThreadCount) {
   Domain d = load_domain(test::model("unit_sphere.STL"));
   omp_set_num_threads(1);
