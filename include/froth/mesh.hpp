@@ -113,7 +113,8 @@ struct SamplingStats {
   size_t levels = 0;             // refinement levels used
   size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
   double base_cube_side = 0;
-  std::array<size_t, 3> grid{};  // base grid cubes per axis, the empty margins (BackgroundGrid::kMargin per side) included
+  // Base grid cubes per axis, the empty margins (BackgroundGrid::kMargin per side) included.
+  std::array<size_t, 3> grid{};
   std::vector<SamplingLevel> per_level;
 };
 
