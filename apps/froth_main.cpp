@@ -74,6 +74,10 @@ std::string details_sentence(const froth::RunReport& run) {
     out += fmt::format(" {} of them are star-shaped from no point (empty kernel): they wrap around a feature thinner "
                        "than r; a smaller r avoids them.",
                        run.without_kernel);
+  if (run.split_seeds > 0)
+    out += fmt::format(" {} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces became "
+                       "{} more cells (cell data piece > 0).",
+                       run.split_seeds, run.extra_pieces);
   if (run.sampling.edge_seeds + run.sampling.vertex_seeds > 0)
     out += fmt::format(" Protection: {} vertex and {} edge seeds on the reflex edges (r_e = r/sqrt(2)).",
                        run.sampling.vertex_seeds, run.sampling.edge_seeds);

@@ -76,8 +76,13 @@ struct PolyMesh {
   Buffer<int64_t> face_vertex_begin{0};
   Buffer<int32_t> face_vertices;
   std::vector<CellQuality> quality;   // per cell when the quality stage ran, else empty
+  // Where a seed's part of the domain falls in several pieces (a wall thinner than its cell),
+  // each piece is a cell: piece 0 holds the seed, pieces 1, 2, ... follow it with the same seed.
+  // Empty when no cell was split.
+  std::vector<uint32_t> piece;
 
   size_t cell_count() const { return seeds.size(); }
+  uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }
   size_t face_count() const { return face_generator.size(); }
 };
 
@@ -142,6 +147,8 @@ struct RunReport {
   size_t not_star_shaped = 0, without_kernel = 0;
   double star_violation = 0;
   size_t faces = 0, points = 0;
+  // Seeds whose part of the domain fell in several pieces, and the cells those added (mesh.piece).
+  size_t split_seeds = 0, extra_pieces = 0;
   double domain_volume = 0, volume_sum = 0;
   double surface_area = 0;  // of the domain
   std::vector<StageTiming> stages;

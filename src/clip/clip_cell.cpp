@@ -596,6 +596,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       all.push_back(directed_edge_key(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()])));
   }
   if (!each_edge_once_each_way(all)) return fail_with("the clipped cell is not closed");
+  // V ∩ D may fall in several pieces (a wall thinner than the cell, seen from both sides): each
+  // becomes a cell of its own after assembly (tessellation's split_pieces), so only count them.
   UnionFind& parts = w.parts;
   parts.reset(pts.size());
   for (const uint64_t e : all) parts.unite(int32_t(edge_key_low(e)), int32_t(edge_key_high(e)));
@@ -603,15 +605,12 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   used_map.assign(pts.size(), -1);
   out.points_.clear(), out.names_.clear();
   out.face_start_.assign(1, 0), out.face_vert_.clear();
-  int32_t root = -1;
+  out.pieces_ = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
     for (int32_t p : faces[f]) {
-      if (root < 0) root = parts.find(p);
-      if (parts.find(p) != root)
-        return fail_with("the cell's part of the domain is in several pieces: r is too large for the domain's "
-                         "features here (a thin wall or a narrow gap)",
-                         Result::TooCoarse);
       if (used_map[p] < 0) {
+        const int32_t root = parts.find(p);
+        if (root == p) ++out.pieces_;  // each piece's root is one of its points, met once
         used_map[p] = int32_t(out.points_.size());
         out.points_.push_back(pts[p]);
         out.names_.push_back(keys[p]);

@@ -48,6 +48,8 @@ class ClippedCell {
   const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
   size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
   const std::vector<ConvexCell::Names>& names() const { return names_; }
+  // Connected pieces of V ∩ D (a wall thinner than the cell seen from both sides makes two).
+  int pieces() const { return pieces_; }
 
  private:
   friend class CellClipper;
@@ -56,6 +58,7 @@ class ClippedCell {
   std::vector<int32_t> face_gen_;
   std::vector<uint32_t> face_start_{0};
   std::vector<uint16_t> face_vert_;
+  int pieces_ = 1;
 };
 
 class CellClipper {

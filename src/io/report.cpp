@@ -43,6 +43,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                {"edge_cells", run.edge_cells},
                {"vertex_cells", run.vertex_cells},
                {"faces", run.faces},
+               {"seeds_split_in_pieces", run.split_seeds},
+               {"cells_added_by_pieces", run.extra_pieces},
                {"points", run.points}};
   j["volume"] = {{"domain", run.domain_volume},
                  {"cells_sum", run.volume_sum},

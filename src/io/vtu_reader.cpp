@@ -313,6 +313,12 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
       }
     i = j;
   }
+  if (auto piece = rd.array("CellData", "piece", false)) {
+    const std::vector<int64_t> p = rd.values<int64_t>(piece);
+    if (p.size() != nc) bad(path, "the piece array does not have one value per cell");
+    if (std::any_of(p.begin(), p.end(), [](int64_t v) { return v != 0; }))
+      for (int64_t v : p) m.piece.push_back(uint32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
+  }
   m.kinds.assign(nc, CellKind::Interior);
   if (auto kind = rd.array("CellData", "kind", false)) {
     const std::vector<int64_t> k = rd.values<int64_t>(kind);

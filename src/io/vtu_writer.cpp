@@ -225,6 +225,13 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       },
       "Int32", "kind");
   xml << raw_array(w, m.volumes, "Float64", "volume");
+  xml << data_array(
+      w, n * 4,
+      [&](std::ostream& out) {
+        ValueWriter<int32_t> vw(out);
+        for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.piece_of(c)));
+      },
+      "Int32", "piece");
   if (m.quality.size() == n) {
     // Quality metrics, streamed field by field from the per-cell records.
     auto field = [&](const char* name, double CellQuality::*member) {
@@ -254,7 +261,8 @@ void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const
       << "<PUnstructuredGrid GhostLevel=\"0\">\n"
       << "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
       << "<PCellData>\n<PDataArray type=\"Float64\" Name=\"seed\" NumberOfComponents=\"3\"/>\n"
-      << "<PDataArray type=\"Int32\" Name=\"kind\"/>\n<PDataArray type=\"Float64\" Name=\"volume\"/>\n";
+      << "<PDataArray type=\"Int32\" Name=\"kind\"/>\n<PDataArray type=\"Float64\" Name=\"volume\"/>\n"
+      << "<PDataArray type=\"Int32\" Name=\"piece\"/>\n";
   if (with_quality)
     for (const auto& [name, member] : kQualityFields) xml << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
   xml << "</PCellData>\n";

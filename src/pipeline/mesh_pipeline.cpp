@@ -83,6 +83,14 @@ void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run) {
   run.features = domain.features;
 }
 
+// The first cell of the k-th seed of a mesh (cell_count() for k = the number of seeds).
+size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
+  if (mesh.piece.empty()) return k;
+  for (size_t c = 0; c < mesh.cell_count(); ++c)
+    if (mesh.piece[c] == 0 && k-- == 0) return c;
+  return mesh.cell_count();
+}
+
 void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
   if (seeds == 0) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", r));
   if (uncovered_cubes > 0)
@@ -169,6 +177,11 @@ void finish_mesh(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const W
   size_t* count_of[] = {&run.interior_cells, &run.fringe_cells, &run.edge_cells, &run.vertex_cells};
   for (size_t* c : count_of) *c = 0;
   for (CellKind k : mesh.kinds) ++*count_of[size_t(k)];
+  run.split_seeds = run.extra_pieces = 0;
+  for (size_t c = 0; c < mesh.cell_count(); ++c) {
+    run.extra_pieces += mesh.piece_of(c) > 0;
+    run.split_seeds += mesh.piece_of(c) == 1;
+  }
   run.border_area = border_area(mesh);
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
@@ -244,8 +257,10 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   // short edge at an owned vertex is seen; then the ghost cells are dropped.
   if (opt.progress) opt.progress("cells");
   TessellationTimes tt;
-  const size_t own_begin = size_t(w.owned.begin - w.built.begin), own_end = size_t(w.owned.end - w.built.begin);
   PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built);
+  // The owned seeds' cells, pieces included (a seed's pieces follow it).
+  const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
+               own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   measure_star_shape(domain, ring, opt, run, own_begin, own_end);

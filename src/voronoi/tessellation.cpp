@@ -27,6 +27,7 @@
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "voronoi/convex_cell.hpp"
+#include "voronoi/split_pieces.hpp"
 
 namespace froth {
 namespace {
@@ -61,6 +62,7 @@ struct CellChunk {
   uint16_t local_vertex(size_t k) const { return wide ? face_vert_wide[k] : face_vert[k]; }
   PagedVector<CellKind> kinds;
   size_t face_vertex_count = 0;
+  std::vector<int32_t> in_pieces;  // cells (of the mesh) whose part of the domain is in several pieces
 
   // Room for typical cells, generously: pages never touched cost no memory, and growth would
   // copy.
@@ -394,6 +396,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         const Sample::Protected* protection = sample.protection_of(i);
         if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
         else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
+        if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
       }
     }
   }
@@ -485,6 +488,15 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
          fmt::format("{} cell vertices are missing from the cell that owns them: neighbouring cells disagree "
                      "(near-degenerate seeds?)",
                      unmatched.load()));
+  // A cell whose part of the domain is in several pieces becomes one cell per piece.
+  std::vector<SplitCell> split;
+  for (const CellChunk& ch : chunks)
+    for (int32_t k : ch.in_pieces) {
+      const Sample::Protected* p = sample.protection_of(first_seed + k);
+      const Vec3 x = mesh.seeds[size_t(k)];
+      split.push_back({k, p ? x + 1e-6 * r * p->inward : x});
+    }
+  split_pieces(mesh, split);
   if (times) times->assembly = seconds_since(t0);
   return mesh;
 }

@@ -1,0 +1,128 @@
+#include "voronoi/split_pieces.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "common/union_find.hpp"
+
+namespace froth {
+namespace {
+
+// Signed solid angle of the triangle (a, b, c) seen from the origin (Van Oosterom & Strackee,
+// 1983); over a closed surface wound counter-clockwise from outside it sums to 4π at a point
+// inside and to 0 outside.
+double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
+  const double la = norm(a), lb = norm(b), lc = norm(c);
+  const double num = dot(a, cross(b, c));
+  const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+  return 2 * std::atan2(num, den);
+}
+
+// One split cell: the piece of each of its faces, in the new order (the anchor's piece first),
+// and the piece of each of its vertices, sorted by vertex, for the neighbours' look-ups.
+struct Pieces {
+  int count = 0;
+  std::vector<uint32_t> of_face;
+  std::vector<std::pair<int32_t, uint32_t>> of_vertex;
+  uint32_t piece_of_vertex(int32_t v) const {
+    const auto it = std::lower_bound(of_vertex.begin(), of_vertex.end(), std::pair<int32_t, uint32_t>{v, 0});
+    return it != of_vertex.end() && it->first == v ? it->second : 0;
+  }
+};
+
+Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
+  Pieces out;
+  const int64_t f0 = m.cell_face_begin[s.cell], f1 = m.cell_face_begin[s.cell + 1];
+  std::vector<int32_t> verts(m.face_vertices.begin() + m.face_vertex_begin[f0],
+                             m.face_vertices.begin() + m.face_vertex_begin[f1]);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  auto local = [&](int32_t v) { return int32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin()); };
+  UnionFind parts(verts.size());
+  for (int64_t f = f0; f < f1; ++f) {
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    for (int64_t k = b + 1; k < e; ++k) parts.unite(local(m.face_vertices[b]), local(m.face_vertices[k]));
+  }
+  // Pieces numbered in face order first, then the anchor's moved to the front.
+  std::vector<int32_t> number(verts.size(), -1);
+  std::vector<uint32_t> face_piece;
+  for (int64_t f = f0; f < f1; ++f) {
+    const int32_t root = parts.find(local(m.face_vertices[m.face_vertex_begin[f]]));
+    if (number[root] < 0) number[root] = out.count++;
+    face_piece.push_back(uint32_t(number[root]));
+  }
+  std::vector<double> winding(size_t(out.count), 0.0);
+  for (int64_t f = f0; f < f1; ++f) {
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    const Vec3 o = m.points[m.face_vertices[b]] - s.anchor;
+    for (int64_t k = b + 1; k + 1 < e; ++k)
+      winding[face_piece[size_t(f - f0)]] +=
+          solid_angle(o, m.points[m.face_vertices[k]] - s.anchor, m.points[m.face_vertices[k + 1]] - s.anchor);
+  }
+  const uint32_t home = uint32_t(std::max_element(winding.begin(), winding.end()) - winding.begin());
+  auto renumber = [home](uint32_t p) { return p == home ? 0 : p < home ? p + 1 : p; };
+  for (uint32_t p : face_piece) out.of_face.push_back(renumber(p));
+  for (size_t v = 0; v < verts.size(); ++v)
+    out.of_vertex.push_back({verts[v], renumber(uint32_t(number[parts.find(int32_t(v))]))});
+  return out;
+}
+
+}  // namespace
+
+void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split) {
+  if (split.empty()) return;
+  const size_t n = m.cell_count();
+  std::vector<Pieces> pieces(split.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (size_t k = 0; k < split.size(); ++k) pieces[k] = find_pieces(m, split[k]);
+
+  // first[c]: the new index of old cell c's first piece; which[c]: its entry in `split`, or -1.
+  std::vector<int64_t> first(n + 1);
+  std::vector<int32_t> which(n, -1);
+  for (size_t k = 0; k < split.size(); ++k) which[size_t(split[k].cell)] = int32_t(k);
+  first[0] = 0;
+  for (size_t c = 0; c < n; ++c) first[c + 1] = first[c] + (which[c] < 0 ? 1 : pieces[size_t(which[c])].count);
+  const size_t cells = size_t(first[n]);
+
+  PolyMesh out;
+  out.points = std::move(m.points);
+  out.seeds.resize(cells), out.kinds.resize(cells), out.piece.assign(cells, 0);
+  out.cell_face_begin.assign(cells + 1, 0);
+  out.face_generator.resize(m.face_count());
+  out.face_vertex_begin.resize(m.face_count() + 1);
+  out.face_vertices.resize(m.face_vertices.size());
+  auto new_generator = [&](int32_t g, int64_t f) {
+    if (g < 0 || is_other_piece_generator(g)) return g;
+    const int32_t w = which[size_t(g)];
+    // The twin face lies in the piece of the neighbour that has this face's vertices.
+    return int32_t(first[size_t(g)] + (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]])));
+  };
+  int64_t face = 0, fv = 0;
+  auto copy_face = [&](int64_t f) {
+    out.face_generator[size_t(face)] = new_generator(m.face_generator[f], f);
+    out.face_vertex_begin[size_t(face)] = fv;
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+      out.face_vertices[size_t(fv++)] = m.face_vertices[k];
+    ++face;
+  };
+  for (size_t c = 0; c < n; ++c) {
+    const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+    const int32_t w = which[c];
+    const int count = w < 0 ? 1 : pieces[size_t(w)].count;
+    for (int p = 0; p < count; ++p) {
+      const size_t cell = size_t(first[c] + p);
+      out.cell_face_begin[cell] = face;
+      out.seeds[cell] = m.seeds[c];
+      out.kinds[cell] = p == 0 ? m.kinds[c] : CellKind::Fringe;
+      out.piece[cell] = uint32_t(p);
+      for (int64_t f = f0; f < f1; ++f)
+        if (w < 0 || pieces[size_t(w)].of_face[size_t(f - f0)] == uint32_t(p)) copy_face(f);
+    }
+  }
+  out.cell_face_begin[cells] = face;
+  out.face_vertex_begin[size_t(face)] = fv;
+  m = std::move(out);
+}
+
+}  // namespace froth
