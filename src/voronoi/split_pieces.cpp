@@ -44,27 +44,56 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
     const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
     for (int64_t k = b + 1; k < e; ++k) parts.unite(local(m.face_vertices[b]), local(m.face_vertices[k]));
   }
-  // Pieces numbered in face order first, then the anchor's moved to the front.
+  // Components of the cell's boundary numbered in face order.
   std::vector<int32_t> number(verts.size(), -1);
   std::vector<uint32_t> face_piece;
+  int components = 0;
   for (int64_t f = f0; f < f1; ++f) {
     const int32_t root = parts.find(local(m.face_vertices[m.face_vertex_begin[f]]));
-    if (number[root] < 0) number[root] = out.count++;
+    if (number[root] < 0) number[root] = components++;
     face_piece.push_back(uint32_t(number[root]));
   }
-  std::vector<double> winding(size_t(out.count), 0.0);
-  for (int64_t f = f0; f < f1; ++f) {
-    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-    const Vec3 o = m.points[m.face_vertices[b]] - s.anchor;
-    for (int64_t k = b + 1; k + 1 < e; ++k)
-      winding[face_piece[size_t(f - f0)]] +=
-          solid_angle(o, m.points[m.face_vertices[k]] - s.anchor, m.points[m.face_vertices[k + 1]] - s.anchor);
+  // Each component's signed volume and winding number about a point: a component of negative
+  // volume is the wall of a void (a cavity smaller than the cell) and belongs to the piece
+  // around it, which winds once about any of its points.
+  auto winding_about = [&](Vec3 p, std::vector<double>& winding, std::vector<double>* volume) {
+    winding.assign(size_t(components), 0.0);
+    if (volume) volume->assign(size_t(components), 0.0);
+    for (int64_t f = f0; f < f1; ++f) {
+      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+      const size_t c = face_piece[size_t(f - f0)];
+      const Vec3 o = m.points[m.face_vertices[b]] - p;
+      for (int64_t k = b + 1; k + 1 < e; ++k) {
+        const Vec3 u = m.points[m.face_vertices[k]] - p, v = m.points[m.face_vertices[k + 1]] - p;
+        winding[c] += solid_angle(o, u, v);
+        if (volume) (*volume)[c] += dot(o, cross(u, v)) / 6;
+      }
+    }
+  };
+  std::vector<double> winding, volume, around;
+  winding_about(s.anchor, winding, &volume);
+  std::vector<int32_t> piece_of(size_t(components), -1);  // component -> piece, in face order
+  for (int c = 0; c < components; ++c)
+    if (volume[size_t(c)] > 0) piece_of[size_t(c)] = out.count++;
+  for (int64_t f = f0; f < f1 && out.count > 0; ++f) {
+    const size_t c = face_piece[size_t(f - f0)];
+    if (piece_of[c] >= 0) continue;
+    winding_about(m.points[m.face_vertices[m.face_vertex_begin[f]]], around, nullptr);
+    int host = -1;
+    for (int h = 0; h < components; ++h)
+      if (volume[size_t(h)] > 0 && (host < 0 || around[size_t(h)] > around[size_t(host)])) host = h;
+    piece_of[c] = piece_of[size_t(host)];
   }
+  if (out.count == 0) out.count = 1, piece_of.assign(size_t(components), 0);  // cannot happen for a closed cell
+  std::vector<double> piece_winding(size_t(out.count), 0.0);
+  for (int c = 0; c < components; ++c) piece_winding[size_t(piece_of[size_t(c)])] += winding[size_t(c)];
+  for (uint32_t& p : face_piece) p = uint32_t(piece_of[p]);
+  winding = piece_winding;
   const uint32_t home = uint32_t(std::max_element(winding.begin(), winding.end()) - winding.begin());
   auto renumber = [home](uint32_t p) { return p == home ? 0 : p < home ? p + 1 : p; };
   for (uint32_t p : face_piece) out.of_face.push_back(renumber(p));
   for (size_t v = 0; v < verts.size(); ++v)
-    out.of_vertex.push_back({verts[v], renumber(uint32_t(number[parts.find(int32_t(v))]))});
+    out.of_vertex.push_back({verts[v], renumber(uint32_t(piece_of[size_t(number[parts.find(int32_t(v))])]))});
   return out;
 }
 
