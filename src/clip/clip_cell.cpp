@@ -125,11 +125,6 @@ Point2 in_plane(Vec3 p, Vec3 n) {
   return {dot(p, uu), dot(p, vv)};
 }
 
-// Twice the signed area of the triangle (a, b, c) in the plane.
-double cross2(Point2 a, Point2 b, Point2 c) {
-  return (b.first - a.first) * (c.second - a.second) - (b.second - a.second) * (c.first - a.first);
-}
-
 // Is p inside the polygon `loop` (counter-clockwise about n)? Even-odd rule in the plane.
 bool encloses(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop, Vec3 p, Vec3 n) {
   const auto [px, py] = in_plane(p, n);
@@ -140,88 +135,6 @@ bool encloses(const std::vector<Vec3>& pts, const std::vector<int32_t>& loop, Ve
     if ((ay > py) != (by > py) && px < ax + (py - ay) / (by - ay) * (bx - ax)) in = !in;
   }
   return in;
-}
-
-// The vertex of `outer` that hole vertex m sees first along +dir (Eberly, "Triangulation by ear
-// clipping", 2002, §3): the nearer end of the first edge the ray meets, or, if reflex vertices
-// of the outer loop lie in the triangle that spans, the one closest in angle to the ray. -1 if
-// the ray meets nothing.
-int find_bridge(const std::vector<Point2>& o, Point2 m, double dir) {
-  const size_t n = o.size();
-  double best = INFINITY;
-  int edge = -1;
-  for (size_t k = 0; k < n; ++k) {
-    auto [ax, ay] = o[k];
-    auto [bx, by] = o[(k + 1) % n];
-    if ((ay > m.second) == (by > m.second)) continue;
-    const double x = (ax + (m.second - ay) / (by - ay) * (bx - ax) - m.first) * dir;
-    if (x > 0 && x < best) best = x, edge = int(k);
-  }
-  if (edge < 0) return -1;
-  const int a = edge, b = int((edge + 1) % n);
-  int p = (o[a].first - o[b].first) * dir > 0 ? a : b;
-  const Point2 hit{m.first + dir * best, m.second};
-  const double orient = cross2(m, hit, o[p]);
-  double best_angle = INFINITY;
-  int chosen = p;
-  for (size_t k = 0; k < n; ++k) {
-    if (int(k) == p) continue;
-    const auto q = o[k];
-    if (cross2(o[(k + n - 1) % n], q, o[(k + 1) % n]) >= 0) continue;  // convex vertex
-    const bool inside = orient > 0 ? cross2(m, hit, q) >= 0 && cross2(hit, o[p], q) >= 0 && cross2(o[p], m, q) >= 0
-                                   : cross2(m, hit, q) <= 0 && cross2(hit, o[p], q) <= 0 && cross2(o[p], m, q) <= 0;
-    if (!inside) continue;
-    const double dx = (q.first - m.first) * dir, dy = std::abs(q.second - m.second);
-    const double angle = std::atan2(dy, dx);
-    if (angle < best_angle) best_angle = angle, chosen = int(k);
-  }
-  return chosen;
-}
-
-// Cuts `host` (counter-clockwise) around `hole` (clockwise) along bridges from the hole's
-// extreme vertices in +u and -u to the outer vertices they see; the two pieces replace host in
-// `outer`. False if the bridges cannot be found or share an end.
-bool split_around_hole(const std::vector<Vec3>& pts, std::vector<int32_t>& host, const std::vector<int32_t>& hole,
-                       const std::vector<std::vector<int32_t>>& holes, Vec3 n, std::vector<std::vector<int32_t>>& outer) {
-  std::vector<Point2> o, h;
-  for (int32_t v : host) o.push_back(in_plane(pts[v], n));
-  for (int32_t v : hole) h.push_back(in_plane(pts[v], n));
-  size_t hi = 0, lo = 0;
-  for (size_t k = 1; k < h.size(); ++k) {
-    if (h[k].first > h[hi].first) hi = k;
-    if (h[k].first < h[lo].first) lo = k;
-  }
-  const int p = find_bridge(o, h[hi], 1), q = find_bridge(o, h[lo], -1);
-  if (p < 0 || q < 0 || p == q || hi == lo) return false;
-  // The bridges see past this hole only; another hole of the same face must not be in the way.
-  auto crosses = [&](Point2 a, Point2 b, Point2 c,
-                     Point2 d) {
-    return (cross2(a, b, c) > 0) != (cross2(a, b, d) > 0) && (cross2(c, d, a) > 0) != (cross2(c, d, b) > 0);
-  };
-  for (const auto& other : holes) {
-    if (&other == &hole) continue;
-    for (size_t k = 0; k < other.size(); ++k) {
-      const auto c = in_plane(pts[other[k]], n), d = in_plane(pts[other[(k + 1) % other.size()]], n);
-      if (crosses(h[hi], o[p], c, d) || crosses(h[lo], o[q], c, d)) return false;
-    }
-  }
-  // Piece A: host from p to q, then the hole from lo to hi; piece B: host from q to p, then the
-  // hole from hi to lo.
-  auto walk = [](const std::vector<int32_t>& loop, size_t from, size_t to, std::vector<int32_t>& out) {
-    for (size_t k = from;; k = (k + 1) % loop.size()) {
-      out.push_back(loop[k]);
-      if (k == to) break;
-    }
-  };
-  std::vector<int32_t> a, b;
-  walk(host, size_t(p), size_t(q), a);
-  walk(hole, lo, hi, a);
-  walk(host, size_t(q), size_t(p), b);
-  walk(hole, hi, lo, b);
-  if (!(dot(loop_area(pts, a), n) > 0 && dot(loop_area(pts, b), n) > 0)) return false;
-  host = std::move(a);
-  outer.push_back(std::move(b));
-  return true;
 }
 
 }  // namespace
@@ -486,18 +399,22 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   Loops& loops = w.loops;
   face_gen.clear(), faces.clear();
   // Adds the loops of one plane (normal n) as faces on generator g. A loop turning clockwise
-  // about n is a hole in another: a polygon with a hole is no VTK face, so its host is cut in
-  // two along two bridges.
-  auto add_faces_cut_around_holes = [&](const Loops& plane_loops, Vec3 n, int32_t g) {
-    auto add = [&](std::span<const int32_t> loop) {
+  // about n is a hole in another: a polygon with a hole is no VTK face, so the face is kept as
+  // its outer loop followed by its holes (face_loop_ 1, then 2 each), which the assembly
+  // triangulates from the global points (voronoi/holed_faces), the same way in both cells.
+  std::vector<uint8_t>& face_loop = out.face_loop_;
+  face_loop.clear();
+  auto add_faces_with_holes = [&](const Loops& plane_loops, Vec3 n, int32_t g) {
+    auto add = [&](std::span<const int32_t> loop, uint8_t kind) {
       face_gen.push_back(g);
+      face_loop.push_back(kind);
       faces.ids.insert(faces.ids.end(), loop.begin(), loop.end());
       faces.begin.push_back(uint32_t(faces.ids.size()));
     };
     bool any_hole = false;
     for (size_t k = 0; k < plane_loops.size(); ++k) any_hole |= !(dot(loop_area(pts, plane_loops[k]), n) > 0);
     if (!any_hole) {  // the usual case
-      for (size_t k = 0; k < plane_loops.size(); ++k) add(plane_loops[k]);
+      for (size_t k = 0; k < plane_loops.size(); ++k) add(plane_loops[k], 0);
       return true;
     }
     std::vector<std::vector<int32_t>> outer, holes;
@@ -505,16 +422,27 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       const auto loop = plane_loops[k];
       (dot(loop_area(pts, loop), n) > 0 ? outer : holes).emplace_back(loop.begin(), loop.end());
     }
-    for (auto& hole : holes) {
-      auto host = std::find_if(outer.begin(), outer.end(), [&](const auto& o) { return encloses(pts, o, pts[hole[0]], n); });
-      if (host == outer.end() || !split_around_hole(pts, *host, hole, holes, n, outer)) return false;
+    // Each hole in the smallest outer loop around it (outer loops of one plane do not cross).
+    std::vector<std::vector<size_t>> holes_of(outer.size());
+    for (size_t h = 0; h < holes.size(); ++h) {
+      size_t host = outer.size();
+      double host_area = INFINITY;
+      for (size_t o = 0; o < outer.size(); ++o) {
+        const double area = dot(loop_area(pts, outer[o]), n);
+        if (area < host_area && encloses(pts, outer[o], pts[holes[h][0]], n)) host = o, host_area = area;
+      }
+      if (host == outer.size()) return false;
+      holes_of[host].push_back(h);
     }
-    for (const auto& loop : outer) add(loop);
+    for (size_t o = 0; o < outer.size(); ++o) {
+      add(outer[o], holes_of[o].empty() ? 0 : 1);
+      for (size_t h : holes_of[o]) add(holes[h], 2);
+    }
     return true;
   };
   // Where a seam crosses a face of V the loops only pass straight on: such a point is dropped
   // (a cell cut by one facet plane the quick way has none, and its neighbours must agree with
-  // it). Before any face is cut around a hole, so that no bridge ends there.
+  // it).
   auto drop_seam_points = [&](Loops& ls) {
     size_t to = 0, from = 0;
     for (size_t k = 0; k < ls.size(); ++k) {
@@ -556,11 +484,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
     // in-plane frame is this one mirrored), so the faces still match.
-    if (!add_faces_cut_around_holes(loops, plane[f].normal, g))
-      return fail_with(fmt::format("the face on generator {} has holes it cannot be cut around (features much "
-                                   "smaller than r)",
-                                   g),
-                       Result::TooCoarse);
+    if (!add_faces_with_holes(loops, plane[f].normal, g))
+      return fail_with(fmt::format("the face on generator {} has a hole inside none of its loops", g));
   }
 
   // 4. Border faces: the triangle pieces of each facet plane merged (shared edges cancel).
@@ -580,11 +505,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (!chain_loops(kept, pts.size(), loops, w.chain_leaving, w.chain_used))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
     drop_seam_points(loops);
-    if (!add_faces_cut_around_holes(loops, domain_.planes[-facet - 1].normal, facet))
-      return fail_with(fmt::format("the border face on facet plane {} has holes it cannot be cut around (features "
-                                   "much smaller than r)",
-                                   -facet - 1),
-                       Result::TooCoarse);
+    if (!add_faces_with_holes(loops, domain_.planes[-facet - 1].normal, facet))
+      return fail_with(fmt::format("the border face on facet plane {} has a hole inside none of its loops", -facet - 1));
   }
 
   // 5. The result must be one closed surface: every edge used once each way, all connected.
@@ -601,6 +523,10 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   UnionFind& parts = w.parts;
   parts.reset(pts.size());
   for (const uint64_t e : all) parts.unite(int32_t(edge_key_low(e)), int32_t(edge_key_high(e)));
+  for (size_t f = 0, outer = 0; f < faces.size(); ++f) {  // a face's holes are of its piece
+    if (face_loop[f] == 1) outer = f;
+    if (face_loop[f] == 2) parts.unite(faces[outer][0], faces[f][0]);
+  }
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(pts.size(), -1);
   out.points_.clear(), out.names_.clear();

@@ -47,6 +47,8 @@ class ClippedCell {
   int32_t face_generator(size_t f) const { return face_gen_[f]; }
   const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
   size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
+  // 0: a face; 1: the outer loop of a face with holes, whose holes are the next faces, marked 2.
+  uint8_t face_loop(size_t f) const { return face_loop_[f]; }
   const std::vector<ConvexCell::Names>& names() const { return names_; }
   // Connected pieces of V ∩ D (a wall thinner than the cell seen from both sides makes two).
   int pieces() const { return pieces_; }
@@ -58,6 +60,7 @@ class ClippedCell {
   std::vector<int32_t> face_gen_;
   std::vector<uint32_t> face_start_{0};
   std::vector<uint16_t> face_vert_;
+  std::vector<uint8_t> face_loop_;
   int pieces_ = 1;
 };
 
@@ -67,10 +70,9 @@ class CellClipper {
   CellClipper(const Domain& domain, const SurfaceGenerators& gens, const TriangleGrid& triangles);
   ~CellClipper();
 
-  // TooCoarse: the domain has features smaller than r here (a thin wall, a narrow gap); the
-  // error text says which. HalfSpace: the surface near the cell is one facet plane, `facet`, and
+  // HalfSpace: the surface near the cell is one facet plane, `facet`, and
   // V ∩ D is V cut by it: the caller cuts it as it cuts a convex domain's cells.
-  enum class Result { Inside, Clipped, HalfSpace, TooCoarse };
+  enum class Result { Inside, Clipped, HalfSpace };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
   // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
   // inside the domain: the seed itself, or a point just off the surface for a protection seed.

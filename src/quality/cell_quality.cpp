@@ -110,6 +110,11 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     if (x.ends != y.ends) continue;
     ++k;
     q.min_edge = std::min(q.min_edge, norm(m.points[x.a()] - m.points[x.b()]));
+    // Two faces toward one neighbour meet only where a face with holes was cut into triangles
+    // (voronoi/holed_faces): a line in a plane, not an edge of the cell's shape. (Border faces
+    // read back from a VTU all share one generator: they are not skipped.)
+    const int32_t gx = m.face_generator[f0 + x.face()], gy = m.face_generator[f0 + y.face()];
+    if (gx == gy && gx >= 0 && dot(w.normals[x.face()], w.normals[y.face()]) > 1 - 1e-9) continue;
     // The angle inside the cell between two faces is pi minus the angle of their outward normals
     // at a convex edge, pi plus it at a reflex one (star-shaped cells of non-convex domains):
     // convex when the normals turn along the edge as the first face runs it.
@@ -121,7 +126,6 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     q.max_dihedral = std::max(q.max_dihedral, angle);
     if (angles) {
       const int borders = int(w.border[x.face()]) + int(w.border[y.face()]);
-      const int32_t gx = m.face_generator[f0 + x.face()], gy = m.face_generator[f0 + y.face()];
       const bool relaxed = borders == 0 ? is_protection_seed(m, gx) && is_protection_seed(m, gy)
                                         : m.kinds[c] >= CellKind::Edge &&
                                               (is_protection_seed(m, gx) || is_protection_seed(m, gy));

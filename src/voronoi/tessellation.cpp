@@ -27,6 +27,7 @@
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "voronoi/convex_cell.hpp"
+#include "voronoi/holed_faces.hpp"
 #include "voronoi/split_pieces.hpp"
 
 namespace froth {
@@ -63,6 +64,7 @@ struct CellChunk {
   PagedVector<CellKind> kinds;
   size_t face_vertex_count = 0;
   std::vector<int32_t> in_pieces;  // cells (of the mesh) whose part of the domain is in several pieces
+  std::vector<std::pair<uint32_t, uint32_t>> holed;  // faces with holes: (first face in the chunk, loops)
 
   // Room for typical cells, generously: pages never touched cost no memory, and growth would
   // copy.
@@ -225,7 +227,6 @@ class CellBuilder {
       int32_t facet = -1;
       const CellClipper::Result result =
           clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
-      if (result == CellClipper::Result::TooCoarse) return {error, ErrorKind::Usage};
       if (result == CellClipper::Result::HalfSpace && !cut_by_plane(facet))
         return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
       if (result == CellClipper::Result::Clipped) {
@@ -338,6 +339,10 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
   for (size_t f = 0; f < cell.face_count(); ++f) {
     int32_t g = cell.face_generator(f);
     fringe |= is_border_generator(g);
+    if constexpr (requires { cell.face_loop(f); }) {
+      if (cell.face_loop(f) == 1) ch.holed.push_back({uint32_t(ch.face_gen.size()), 1});
+      if (cell.face_loop(f) == 2) ++ch.holed.back().second;
+    }
     // Neighbours by cell index; one that is not built is another piece's.
     if (g >= 0) g = g >= built.begin && g < built.end ? g - built.begin : kOtherPiece;
     ch.face_gen.push_back(g);
@@ -488,7 +493,12 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
          fmt::format("{} cell vertices are missing from the cell that owns them: neighbouring cells disagree "
                      "(near-degenerate seeds?)",
                      unmatched.load()));
-  // A cell whose part of the domain is in several pieces becomes one cell per piece.
+  // Faces with holes as triangles, then a cell whose part of the domain is in several pieces
+  // as one cell per piece.
+  std::vector<HoledFace> holed;
+  for (size_t c = 0; c < nchunks; ++c)
+    for (const auto& [face, loops] : chunks[c].holed) holed.push_back({chunk_face[c] + face, loops});
+  if (const std::string error = triangulate_holed_faces(mesh, holed); !error.empty()) fail(ErrorKind::Internal, error);
   std::vector<SplitCell> split;
   for (const CellChunk& ch : chunks)
     for (int32_t k : ch.in_pieces) {

@@ -198,10 +198,12 @@ double kernel_inradius(const PolyMesh& m, size_t c) {
   CGAL::Quadratic_program<double> lp(CGAL::SMALLER, false, 0, false, 0);
   const Vec3 o = m.seeds[c];
   int row = 0;
-  for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f, ++row) {
+  for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
     const Vec3 n = test::face_normal(m, f);
-    lp.set_a(0, row, n.x), lp.set_a(1, row, n.y), lp.set_a(2, row, n.z), lp.set_a(3, row, 1);
-    lp.set_b(row, dot(n, test::face_centroid(m, f) - o));
+    if (!std::isfinite(norm(n))) continue;  // a face of no area in floating point bounds nothing
+    ++row;
+    lp.set_a(0, row - 1, n.x), lp.set_a(1, row - 1, n.y), lp.set_a(2, row - 1, n.z), lp.set_a(3, row - 1, 1);
+    lp.set_b(row - 1, dot(n, test::face_centroid(m, f) - o));
   }
   lp.set_c(3, -1);
   const auto sol = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
@@ -466,7 +468,11 @@ INSTANTIATE_TEST_SUITE_P(
                     Case{"thin-plate", 1.0 / 20, 1}, Case{"two-bodies", 1.0 / 20, 1}, Case{"two-bodies", 1.0 / 40, 3},
                     Case{"1002_tray_bottom.STL", 1.0 / 20, 1}, Case{"1002_tray_bottom.STL", 1.0 / 40, 3},
                     Case{"hinge.stl", 1.0 / 20, 1}, Case{"hinge.stl", 1.0 / 40, 2},
-                    Case{"ADIS16480.STL", 1.0 / 80, 1}));
+                    Case{"ADIS16480.STL", 1.0 / 80, 1},
+                    // Faces with holes that the two-bridge cut could not split (exit 2 before):
+                    // triangulated from the global points, the same way in both cells.
+                    Case{"ADIS16480.STL", 1.0 / 20, 1}, Case{"ADIS16480.STL", 1.0 / 40, 2},
+                    Case{"1002_tray_bottom.STL", 1.0 / 10, 2}));
 
 }  // namespace
 }  // namespace froth
