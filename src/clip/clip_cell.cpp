@@ -546,6 +546,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     out.face_start_.push_back(uint32_t(out.face_vert_.size()));
   }
   if (faces.size() == 0) return fail_with("the cell lies outside the domain");
+  if (out.points_.size() > 65535) return fail_with(fmt::format("the cell has {} vertices, over 65,535", out.points_.size()));
   return Result::Clipped;
 }
 

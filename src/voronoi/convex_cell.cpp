@@ -284,12 +284,33 @@ double ConvexCell::volume() const {
 
 bool ConvexCell::vertex_names(std::vector<Names>& names) const {
   names.assign(vertex_count(), Names{});
+  std::vector<std::pair<uint32_t, int32_t>> beyond;  // (vertex, generator) past a name's capacity
   for (size_t k = 0; k < face_count(); ++k)
     for (size_t i = 0; i < face_size(k); ++i) {
       Names& nm = names[face_begin(k)[i]];
-      if (nm.n == kMaxGenerators) return false;
-      nm.gen[nm.n++] = face_generator(k);
+      if (nm.n == kMaxGenerators) beyond.push_back({face_begin(k)[i], face_generator(k)});
+      else nm.gen[nm.n++] = face_generator(k);
     }
+  if (beyond.empty()) return true;
+  // A vertex on more faces than a name holds: a domain vertex where many facet planes meet (a
+  // cone's apex). Three planes through a point name it, so the name keeps every seed and the
+  // smallest plane generators that fit; every cell there sees the same seeds and planes, so
+  // every cell shortens the name the same way.
+  std::sort(beyond.begin(), beyond.end());
+  for (size_t a = 0; a < beyond.size();) {
+    const uint32_t v = beyond[a].first;
+    Names& nm = names[v];
+    std::vector<int32_t> all(nm.gen, nm.gen + nm.n);
+    for (; a < beyond.size() && beyond[a].first == v; ++a) all.push_back(beyond[a].second);
+    std::vector<int32_t> seeds, planes;
+    for (int32_t g : all) (g >= 0 ? seeds : planes).push_back(g);
+    if (seeds.size() + 3 > size_t(kMaxGenerators)) return false;
+    std::sort(planes.begin(), planes.end());
+    planes.resize(size_t(kMaxGenerators) - seeds.size());
+    nm.n = 0;
+    for (int32_t g : seeds) nm.gen[nm.n++] = g;
+    for (int32_t g : planes) nm.gen[nm.n++] = g;
+  }
   return true;
 }
 

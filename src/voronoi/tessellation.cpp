@@ -54,7 +54,8 @@ struct CellChunk {
   PagedVector<Vec3> owned_points;
   PagedVector<uint32_t> face_begin{0};       // per cell, into face_gen
   PagedVector<int32_t> face_gen;
-  PagedVector<uint8_t> face_size;
+  PagedVector<uint8_t> face_size;            // 0: a face of over 255 vertices, its size in long_faces
+  std::vector<uint32_t> long_faces;
   // Local vertex ids in bytes; a chunk switches to 16 bits once a (clipped) cell has more than
   // 256 vertices, so convex domains keep the byte's memory.
   PagedVector<uint8_t> face_vert;
@@ -135,7 +136,9 @@ void insertion_sort(T* first, T* last, Less less) {
 
 class CellBuilder {
  public:
-  CellBuilder(const Domain& domain, const Sample& sample, double r)
+  // `clip_convex`: clip a convex domain's cells to its surface too, instead of cutting them by
+  // its planes (when a cell meets more planes than a ConvexCell holds: a cone's apex).
+  CellBuilder(const Domain& domain, const Sample& sample, double r, bool clip_convex)
       : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)), reach_(2 * r * (1 + 1e-9)) {
     const BackgroundGrid& g = sample.grid;
     // Cubes (di, dj, dk) away whose distance from the seed's cube is below the reach.
@@ -151,7 +154,8 @@ class CellBuilder {
     if (stencil_offsets_.size() > size_t(kMaxStencil))
       fail(ErrorKind::Internal, fmt::format("the cells' grid stencil has {} cubes", stencil_offsets_.size()));
     stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
-    if (!domain.convex) {
+    cut_by_planes_ = domain.convex && !clip_convex;
+    if (!cut_by_planes_) {
       generators_.emplace(domain);
       triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
     }
@@ -159,7 +163,7 @@ class CellBuilder {
 
   // A clipper for one thread, or none for a convex domain.
   std::unique_ptr<CellClipper> make_clipper() const {
-    return domain_.convex ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
+    return cut_by_planes_ ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
   }
 
   // What went wrong with a cell: r too large for the domain's features here is the user's to
@@ -169,6 +173,7 @@ class CellBuilder {
     CellError(std::string t, ErrorKind k = ErrorKind::Internal) : text(std::move(t)), kind(k) {}
     std::string text;
     ErrorKind kind = ErrorKind::Internal;
+    bool cut_failed = false;  // a cut of a convex domain's cell failed (its planes overflow the cell)
     bool failed() const { return !text.empty(); }
   };
 
@@ -187,10 +192,10 @@ class CellBuilder {
       return usable(cell.clip(pl.normal, pl.offset - dot(pl.normal, x), plane_generator(p), eps_));
     };
     // A convex domain cuts the cell by its facet planes; any other clips it afterwards.
-    for (size_t p = 0; p < (domain_.convex ? domain_.planes.size() : 0); ++p) {
+    for (size_t p = 0; p < (cut_by_planes_ ? domain_.planes.size() : 0); ++p) {
       const Plane& pl = domain_.planes[p];
       if (pl.offset - dot(pl.normal, x) >= half * std::sqrt(3.0)) continue;
-      if (!cut_by_plane(int32_t(p))) return fmt::format("cell {}: clipping by domain plane {} failed", i, p);
+      if (!cut_by_plane(int32_t(p))) return cut_failure(fmt::format("cell {}: clipping by domain plane {} failed", i, p));
     }
     gather_neighbours(i, x, nb);
     // Nearest first, ties by seed. Some 25 neighbours: by insertion (std::sort's partition step
@@ -216,10 +221,10 @@ class CellBuilder {
       double d = std::sqrt(n.d2);
       Vec3 dir = (1 / d) * (sample_.seeds[n.seed] - x);
       ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_);
-      if (!usable(c)) return fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed);
+      if (!usable(c)) return cut_failure(fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed));
       if (c == ConvexCell::Clip::Cut) bound = security_bound(cell.new_face_radius2()), exact = false;
     }
-    if (!domain_.convex) {
+    if (!cut_by_planes_) {
       std::string error;
       // A protection seed lies on the surface: inside tests start from a point just off it.
       const Sample::Protected* p = sample_.protection_of(i);
@@ -231,8 +236,6 @@ class CellBuilder {
         return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
       if (result == CellClipper::Result::Clipped) {
         if (!error.empty()) return error;
-        for (size_t f = 0; f < clipped.face_count(); ++f)
-          if (clipped.face_size(f) > 255) return fmt::format("cell {} has a face of {} vertices", i, clipped.face_size(f));
         is_clipped = true;
         return {};
       }
@@ -241,8 +244,6 @@ class CellBuilder {
       if (ConvexCell::is_cube_generator(cell.face_generator(f)))
         return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
                            i, x.x, x.y, x.z);
-    for (size_t f = 0; f < cell.face_count(); ++f)
-      if (cell.face_size(f) > 255) return fmt::format("cell {} has a face of {} vertices", i, cell.face_size(f));
     if (!cell.vertex_names(names))
       return fmt::format("cell {}: a vertex lies on more than {} faces", i, ConvexCell::kMaxGenerators);
     return {};
@@ -286,6 +287,11 @@ class CellBuilder {
     g.for_cubes_near(x, reach_, [&](int64_t c) { sample_.for_seeds_in_cube(c, keep_if_in_reach); });
   }
 
+  CellError cut_failure(std::string text) const {
+    CellError e(std::move(text));
+    e.cut_failed = cut_by_planes_;
+    return e;
+  }
   static bool usable(ConvexCell::Clip c) { return c == ConvexCell::Clip::Cut || c == ConvexCell::Clip::Unchanged; }
   const Domain& domain_;
   const Sample& sample_;
@@ -297,6 +303,7 @@ class CellBuilder {
   std::vector<int64_t> stencil_offsets_;
   int stencil_span_ = 0;
   int64_t stencil_reach_ = 0;
+  bool cut_by_planes_ = true;  // a convex domain's cells are cut by its planes, others clipped
   std::optional<SurfaceGenerators> generators_;
   std::optional<TriangleGrid> triangles_;
 };
@@ -346,7 +353,9 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
     // Neighbours by cell index; one that is not built is another piece's.
     if (g >= 0) g = g >= built.begin && g < built.end ? g - built.begin : kOtherPiece;
     ch.face_gen.push_back(g);
-    ch.face_size.push_back(uint8_t(cell.face_size(f)));
+    const size_t size = cell.face_size(f);
+    ch.face_size.push_back(size <= 255 ? uint8_t(size) : 0);
+    if (size > 255) ch.long_faces.push_back(uint32_t(size));
     const uint16_t* fv = cell.face_begin(f);
     for (size_t k = 0; k < cell.face_size(f); ++k)
       ch.wide ? ch.face_vert_wide.push_back(fv[k]) : ch.face_vert.push_back(uint8_t(fv[k]));
@@ -372,38 +381,46 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   const int32_t first_seed = built.begin;
   const size_t n = size_t(built.end - built.begin);
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
-  std::vector<CellChunk> chunks(nchunks);
-  CellBuilder builder(domain, sample, r);
+  std::vector<CellChunk> chunks;
   std::mutex error_mutex;
   size_t first_bad = n;
   CellBuilder::CellError first_error;
+  // A convex domain's cells are cut by its planes; if one overflows (a cone's apex, where more
+  // planes meet than a ConvexCell holds), every cell is built again clipped to the surface, as a
+  // non-convex domain's are, so that all cells name their vertices alike.
+  for (const bool clip_convex : {false, true}) {
+    chunks.assign(nchunks, CellChunk());
+    first_bad = n, first_error = {};
+    CellBuilder builder(domain, sample, r, clip_convex);
 
 #pragma omp parallel
-  {
-    ConvexCell cell;
-    ClippedCell clipped;
-    const std::unique_ptr<CellClipper> clipper = builder.make_clipper();
-    bool is_clipped = false;
-    std::vector<Neighbour> nb;
-    std::vector<ConvexCell::Names> names;
+    {
+      ConvexCell cell;
+      ClippedCell clipped;
+      const std::unique_ptr<CellClipper> clipper = builder.make_clipper();
+      bool is_clipped = false;
+      std::vector<Neighbour> nb;
+      std::vector<ConvexCell::Names> names;
 #pragma omp for schedule(dynamic, 1)
-    for (size_t c = 0; c < nchunks; ++c) {
-      CellChunk& ch = chunks[c];
-      ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
-      for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
-        const int32_t i = first_seed + int32_t(k);
-        CellBuilder::CellError err = builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names);
-        if (err.failed()) {
-          std::lock_guard lock(error_mutex);
-          if (k < first_bad) first_bad = k, first_error = err;
-          break;
+      for (size_t c = 0; c < nchunks; ++c) {
+        CellChunk& ch = chunks[c];
+        ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
+        for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
+          const int32_t i = first_seed + int32_t(k);
+          CellBuilder::CellError err = builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names);
+          if (err.failed()) {
+            std::lock_guard lock(error_mutex);
+            if (k < first_bad) first_bad = k, first_error = err;
+            break;
+          }
+          const Sample::Protected* protection = sample.protection_of(i);
+          if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
+          else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
+          if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
         }
-        const Sample::Protected* protection = sample.protection_of(i);
-        if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
-        else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
-        if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
       }
     }
+    if (!(first_error.failed() && first_error.cut_failed && !clip_convex)) break;
   }
   if (first_error.failed()) fail(first_error.kind, first_error.text);
   if (times) times->cells = seconds_since(t0), times->cells_peak_rss = peak_rss_bytes();
@@ -445,7 +462,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       std::copy(ch.owned_points.begin(), ch.owned_points.end(), mesh.points.begin() + owned_base[first]);
       std::copy(ch.kinds.begin(), ch.kinds.end(), mesh.kinds.begin() + first);
       int64_t face = chunk_face[c], fv = chunk_fv[c];
-      size_t local_fv = 0, other = 0;
+      size_t local_fv = 0, other = 0, long_face = 0;
       for (size_t k = 0; k + 1 < ch.vertex_begin.size(); ++k) {
         const int32_t i = int32_t(first + k);  // cell index; its seed is first_seed + i
         // Global id of each local vertex: its rank among the owner's owned vertices.
@@ -481,7 +498,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         for (uint32_t f = ch.face_begin[k]; f < ch.face_begin[k + 1]; ++f) {
           mesh.face_generator[face] = ch.face_gen[f];
           mesh.face_vertex_begin[face] = fv;
-          for (int s = 0; s < ch.face_size[f]; ++s) mesh.face_vertices[fv++] = gid[ch.local_vertex(local_fv++)];
+          const size_t size = ch.face_size[f] ? ch.face_size[f] : ch.long_faces[long_face++];
+          for (size_t s = 0; s < size; ++s) mesh.face_vertices[fv++] = gid[ch.local_vertex(local_fv++)];
           ++face;
         }
       }

@@ -173,6 +173,17 @@ Domain shape(const std::string& name) {
   } else if (name == "two-bodies") {  // diag 2.45: r = 0.12 at diag/20, the bodies 1e-4 r apart
     add_box(s, {0, 0, 0}, {1, 1, 1}, false);
     add_box(s, {1 + 1.2e-5, 0, 0}, {2, 1, 1}, false);
+  } else if (name.rfind("cone-", 0) == 0) {  // "cone-N": N facets meet at the apex (0, 0, 2)
+    const int n = std::stoi(name.substr(5));
+    for (int k = 0; k < n; ++k) s.vertices.push_back({std::cos(2 * M_PI * k / n), std::sin(2 * M_PI * k / n), 0});
+    s.vertices.push_back({0, 0, 2}), s.vertices.push_back({0, 0, 0});
+    for (int k = 0; k < n; ++k) {
+      s.triangles.push_back({k, (k + 1) % n, n});
+      s.triangles.push_back({(k + 1) % n, k, n + 1});
+    }
+  } else if (name == "wedge-10") {  // a prism over a triangle with a 10-degree corner
+    const double a = 10 * M_PI / 180 / 2;
+    s = extrude({{0, 0}, {2 * std::cos(a), -2 * std::sin(a)}, {2 * std::cos(a), 2 * std::sin(a)}}, 0, 1);
   } else {
     return load_domain(test::model(name));
   }
@@ -365,6 +376,26 @@ TEST_P(NonConvex, GuaranteesHold) {
     std::printf("%s: %zu interior cells beyond Lemma 6\n", k.shape.c_str(), size_t(run.quality->lemma6_interior_violations));
   else
     EXPECT_EQ(run.quality->lemma6_interior_violations, 0u);
+}
+
+// Sharp convex features: a cone's apex where 64 facets meet (more than a vertex name holds) or
+// 400 (more planes than a convex cell holds, so the cone is clipped like a non-convex domain, and
+// its base is a face of 400 vertices), and a 10-degree wedge: valid meshes, no internal error.
+TEST(SharpFeatures, ConesAndWedgesMesh) {
+  for (const char* name : {"cone-64", "cone-400", "wedge-10"})
+    for (const double fraction : {1.0 / 10, 1.0 / 40}) {
+      const Domain d = shape(name);
+      const double r = fraction * d.bounds.diagonal();
+      RunReport run;
+      const PolyMesh m = test::mesh_of(d, r, 2, 2, &run);
+      const MeshCheck check = check_mesh(m);
+      EXPECT_TRUE(check.ok()) << name << ": " << check.first_problem;
+      EXPECT_NEAR(run.volume_sum, d.volume, 1e-9 * d.volume) << name;
+      EXPECT_NEAR(run.border_area, d.surface_area, 1e-9 * d.surface_area) << name;
+      for (size_t c = 0; c < m.cell_count(); ++c)
+        for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
+          ASSERT_LE(norm(m.points[m.face_vertices[k]] - m.seeds[c]), r * (1 + 1e-6)) << name << " Lemma 1, cell " << c;
+    }
 }
 
 // The same mesh for 1 and 2 threads, protection seeds and clipped cells included.
