@@ -33,8 +33,11 @@ struct Histogram {
   void add(double v);
 };
 
+// Min, mean and max of the finite values; values that are not (the infinite aspect ratio of a
+// cell with an empty kernel) are counted apart, as JSON has no infinity.
 struct Summary {
   uint64_t count = 0;
+  uint64_t not_finite = 0;
   double min = 0, max = 0, sum = 0;
   double mean() const { return count ? sum / double(count) : 0; }
   void add(double v);

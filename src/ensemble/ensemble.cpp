@@ -152,12 +152,15 @@ void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& 
     if (j.contains("quality")) {
       double lo = INFINITY, hi = 0;
       for (const auto& [kind, q] : j["quality"]["cells"].items()) {
-        lo = std::min(lo, q["aspect"]["min"].get<double>());
-        hi = std::max(hi, q["aspect"]["max"].get<double>());
+        // Null where a kind has no finite aspect ratio (quality-report.schema.json).
+        if (q["aspect"]["min"].is_number()) lo = std::min(lo, q["aspect"]["min"].get<double>());
+        if (q["aspect"]["max"].is_number()) hi = std::max(hi, q["aspect"]["max"].get<double>());
       }
       m["quality"] = {{"min_aspect", lo},
                       {"max_aspect", hi},
-                      {"interior_aspect", j["quality"]["cells"]["interior"]["aspect"]},
+                      {"interior_aspect", j["quality"]["cells"].contains("interior")
+                                              ? j["quality"]["cells"]["interior"]["aspect"]
+                                              : Json()},
                       {"bounds", j.contains("quality_before_welding") ? j["quality_before_welding"]["bounds"]
                                                                       : j["quality"]["bounds"]}};
       min_aspect.v.push_back(lo);

@@ -198,6 +198,10 @@ void Histogram::add(double v) {
 }
 
 void Summary::add(double v) {
+  if (!std::isfinite(v)) {
+    ++not_finite;
+    return;
+  }
   if (count == 0) min = max = v;
   min = std::min(min, v), max = std::max(max, v);
   sum += v;
@@ -205,9 +209,12 @@ void Summary::add(double v) {
 }
 
 void Summary::merge(const Summary& o) {
+  not_finite += o.not_finite;
   if (o.count == 0) return;
   if (count == 0) {
+    const uint64_t keep = not_finite;
     *this = o;
+    not_finite = keep;
     return;
   }
   min = std::min(min, o.min), max = std::max(max, o.max);
@@ -274,8 +281,13 @@ QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_ce
 std::string quality_json_text(const QualityReport& q) {
   static const char* kinds[] = {"interior", "fringe", "edge", "vertex"};
   static const char* classes[] = {"interior_interior", "border_interior", "border_border"};
+  // Over the finite values (null if there are none); "not_finite" counts the others.
   auto summary = [](const Summary& s) {
-    return nlohmann::ordered_json{{"min", s.min}, {"mean", s.mean()}, {"max", s.max}};
+    nlohmann::ordered_json j;
+    if (s.count) j = {{"min", s.min}, {"mean", s.mean()}, {"max", s.max}};
+    else j = {{"min", nullptr}, {"mean", nullptr}, {"max", nullptr}};
+    if (s.not_finite) j["not_finite"] = s.not_finite;
+    return j;
   };
   auto histogram = [](const Histogram& h) {
     return nlohmann::ordered_json{{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
