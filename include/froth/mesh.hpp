@@ -80,9 +80,13 @@ struct PolyMesh {
   // each piece is a cell: piece 0 holds the seed, pieces 1, 2, ... follow it with the same seed.
   // Empty when no cell was split.
   std::vector<uint32_t> piece;
+  // A point each cell is star-shaped from (validate.hpp's fan_centers); empty: the seeds, as in
+  // a convex domain, where every cell holds its seed and is convex.
+  std::vector<Vec3> centers;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }
+  Vec3 center_of(size_t c) const { return centers.empty() ? seeds[c] : centers[c]; }
   size_t face_count() const { return face_generator.size(); }
 };
 

@@ -232,6 +232,23 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.piece_of(c)));
       },
       "Int32", "piece");
+  xml << data_array(
+      w, n * 24,
+      [&](std::ostream& out) {
+        ValueWriter<double> vw(out);
+        for (size_t c = 0; c < n; ++c) {
+          const Vec3 p = m.center_of(c);
+          vw.put(p.x), vw.put(p.y), vw.put(p.z);
+        }
+      },
+      "Float64", "center", 3);
+  xml << data_array(
+      w, n * 8,
+      [&](std::ostream& out) {
+        ValueWriter<double> vw(out);
+        for (size_t c = 0; c < n; ++c) vw.put(run.r);
+      },
+      "Float64", "radius");
   if (m.quality.size() == n) {
     // Quality metrics, streamed field by field from the per-cell records.
     auto field = [&](const char* name, double CellQuality::*member) {
@@ -262,7 +279,9 @@ void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const
       << "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n"
       << "<PCellData>\n<PDataArray type=\"Float64\" Name=\"seed\" NumberOfComponents=\"3\"/>\n"
       << "<PDataArray type=\"Int32\" Name=\"kind\"/>\n<PDataArray type=\"Float64\" Name=\"volume\"/>\n"
-      << "<PDataArray type=\"Int32\" Name=\"piece\"/>\n";
+      << "<PDataArray type=\"Int32\" Name=\"piece\"/>\n"
+      << "<PDataArray type=\"Float64\" Name=\"center\" NumberOfComponents=\"3\"/>\n"
+      << "<PDataArray type=\"Float64\" Name=\"radius\"/>\n";
   if (with_quality)
     for (const auto& [name, member] : kQualityFields) xml << fmt::format("<PDataArray type=\"Float64\" Name=\"{}\"/>\n", name);
   xml << "</PCellData>\n";

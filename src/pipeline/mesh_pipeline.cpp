@@ -135,11 +135,14 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
 }
 
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).
-void finish_mesh(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
+void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
   if (opt.progress) opt.progress("validation");
   mesh.volumes.resize(mesh.cell_count());
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
+  // Where cells may not hold their seed in their kernel (non-convex domains), the point to fan
+  // each from.
+  if (!domain.convex) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
   MeshCheck check = check_mesh(mesh);
   run.stages.push_back({"validation", watch.lap(), peak_rss_bytes()});
   if (!check.ok())
@@ -214,7 +217,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   watch.lap();
 
   const WeldedCells welded = weld_stage(mesh, opt, run, watch);
-  finish_mesh(mesh, opt, run, welded, watch);
+  finish_mesh(domain, mesh, opt, run, welded, watch);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;
@@ -286,7 +289,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
       welded.cells.push_back(welded_ring.cells[k] - own_begin);
       welded.before.push_back(welded_ring.before[k]);
     }
-  finish_mesh(mesh, opt, run, welded, watch);
+  finish_mesh(domain, mesh, opt, run, welded, watch);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;

@@ -224,6 +224,11 @@ if p.returncode == 0:
     later = np.nonzero(piece > 0)[0]
     check(all(np.array_equal(seeds[c], seeds[c - piece[c]]) and piece[c - piece[c]] == 0 for c in later),
           "I-beam pieces: a piece's seed is that of the cell before it")
+    # A piece does not hold its seed: its fan point (center) is another, and the radius is r.
+    center = vtk_to_numpy(g.GetCellData().GetArray("center"))
+    radius = vtk_to_numpy(g.GetCellData().GetArray("radius"))
+    check(all(not np.array_equal(center[c], seeds[c]) for c in later), "I-beam pieces: a piece's center is its seed")
+    check(np.all(radius == 6.4031242374328485), "I-beam pieces: radius is not r")
     vv = vtk_volumes(g)
     check(vv.min() > 0 and abs(vv.sum() - report["volume"]["domain"]) < 1e-9 * report["volume"]["domain"],
           f"I-beam pieces: VTK's volumes {vv.min()} .. sum {vv.sum()} vs {report['volume']['domain']}")

@@ -335,6 +335,14 @@ TEST_P(NonConvex, GuaranteesHold) {
       ++not_star;
       without_kernel += kernel_inradius(m, c) <= 1e-6 * r;
     }
+    // The cell's fan point: its seed when strictly inside every face plane, else a point of the
+    // kernel, which must then be strictly inside them (where the kernel holds a ball).
+    const Vec3 center = m.center_of(c);
+    double center_side = -INFINITY;
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
+      center_side = std::max(center_side, dot(test::face_normal(m, f), center - test::face_centroid(m, f)));
+    if (cell_side <= -1e-6 * r || kernel_inradius(m, c) > 1e-6 * r)
+      EXPECT_LT(center_side, 0) << "cell " << c << " is not star-shaped from its center";
   }
   RecordProperty("star_shape_violation_over_r", fmt::format("{:.3g}", worst_side / r));
   EXPECT_NEAR(run.star_violation, worst_side / r, 1e-6);  // the run report's own measures
