@@ -74,6 +74,11 @@ std::string details_sentence(const froth::RunReport& run) {
     out += fmt::format(" {} of them are star-shaped from no point (empty kernel): they wrap around a feature thinner "
                        "than r; a smaller r avoids them.",
                        run.without_kernel);
+  for (const auto& [what, m] : {std::pair{"walls", run.feature_size.thickness}, std::pair{"gaps", run.feature_size.gap}})
+    if (std::isfinite(m.min))
+      out += fmt::format(" {} narrower than r on {:.2g}% of the surface (narrowest {:.3g} = {:.3g} r, at ({:.4g}, {:.4g}, "
+                         "{:.4g})).",
+                         what, 100 * m.area_below_cap, m.min, m.min / run.r, m.where.x, m.where.y, m.where.z);
   if (run.split_seeds > 0)
     out += fmt::format(" {} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces became "
                        "{} more cells (cell data piece > 0).",

@@ -127,6 +127,20 @@ struct SamplingStats {
   std::vector<SamplingLevel> per_level;
 };
 
+// The input's local feature size up to a cap (src/features/feature_size.hpp): how thick the
+// solid is and how wide its gaps are, measured at the triangles' centroids, by area.
+struct FeatureSizeReport {
+  struct Measure {
+    double min = INFINITY;       // INFINITY: nothing below the cap
+    Vec3 where;                  // the centroid where it is smallest
+    double area_below_cap = 0;   // fraction of the surface area measured below the cap
+    double quantile_1 = INFINITY, quantile_10 = INFINITY, quantile_50 = INFINITY;  // of the surface area
+  };
+  bool measured = false;
+  double cap = 0;
+  Measure thickness, gap;
+};
+
 struct QualityReport;  // froth/quality.hpp
 struct WeldStats;      // froth/weld.hpp
 
@@ -137,6 +151,7 @@ struct RunReport {
   double weld = 0;
   int threads = 0;
   FeatureSummary features;  // of the input surface
+  FeatureSizeReport feature_size;  // thin walls and narrow gaps, up to r
   struct Input {
     bool convex = true;
     size_t triangles = 0, shells = 0, cavities = 0;

@@ -1,6 +1,8 @@
 // The run report as JSON (nlohmann-json).
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 #include "froth/io.hpp"
 #include "froth/partition.hpp"
 #include "froth/quality.hpp"
@@ -50,6 +52,20 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                  {"cells_sum", run.volume_sum},
                  {"relative_error", run.volume_relative_error()}};
   j["border_area"] = {{"surface", run.surface_area}, {"border_faces", run.border_area}};
+  if (run.feature_size.measured) {
+    // Values not below the cap are null (JSON has no infinity).
+    auto number = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+    auto measure = [&](const FeatureSizeReport::Measure& m) {
+      nlohmann::ordered_json out = {{"min", number(m.min)}, {"area_fraction_below_cap", m.area_below_cap},
+                                    {"quantile_1", number(m.quantile_1)}, {"quantile_10", number(m.quantile_10)},
+                                    {"quantile_50", number(m.quantile_50)}};
+      if (std::isfinite(m.min)) out["where"] = {m.where.x, m.where.y, m.where.z};
+      return out;
+    };
+    j["feature_size"] = {{"cap", run.feature_size.cap},
+                         {"thickness", measure(run.feature_size.thickness)},
+                         {"gap", measure(run.feature_size.gap)}};
+  }
   j["star_shaped"] = {{"cells_not_star_shaped", run.not_star_shaped}, {"worst_face_plane_beyond_seed_over_r", run.star_violation},
                         {"cells_without_kernel", run.without_kernel}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();

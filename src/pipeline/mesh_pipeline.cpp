@@ -14,6 +14,7 @@
 #include "froth/quality.hpp"
 #include "froth/validate.hpp"
 #include "froth/weld.hpp"
+#include "features/feature_size.hpp"
 #include "pipeline/partition.hpp"
 #include "sampling/mps.hpp"
 #include "voronoi/tessellation.hpp"
@@ -89,6 +90,14 @@ size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
   for (size_t c = 0; c < mesh.cell_count(); ++c)
     if (mesh.piece[c] == 0 && k-- == 0) return c;
   return mesh.cell_count();
+}
+
+// Thin walls and narrow gaps of the input, up to r: reported (what r the part's features ask for).
+void measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
+  if (domain.surface.triangles.empty()) return;
+  if (opt.progress) opt.progress("feature size");
+  run.feature_size = measure_feature_size(domain, opt.r).report;
+  run.stages.push_back({"feature size", watch.lap(), peak_rss_bytes()});
 }
 
 void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
@@ -201,6 +210,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
     if (opt.progress) opt.progress(stage);
   };
   Stopwatch total, watch;
+  measure_features(domain, opt, run, watch);
   progress("sampling");
   Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
   run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
@@ -231,6 +241,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PartitionReport& part = partition ? *partition : local_part;
   start_run(domain, opt, run);
   Stopwatch total, watch;
+  measure_features(domain, opt, run, watch);
   part.rank = comm.rank();
   part.ranks = comm.size();
   part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);

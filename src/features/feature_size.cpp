@@ -1,0 +1,202 @@
+#include "features/feature_size.hpp"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <queue>
+
+#include "common/union_find.hpp"
+
+namespace froth {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangles = std::vector<K::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+
+K::Point_3 point(Vec3 p) { return {p.x, p.y, p.z}; }
+Vec3 vec(const K::Point_3& p) { return {p.x(), p.y(), p.z()}; }
+
+// The triangles across each triangle's three edges (the surface is closed and edge-manifold).
+std::vector<std::array<int32_t, 3>> edge_neighbours(const TriangleSurface& s) {
+  std::map<std::pair<int32_t, int32_t>, int32_t> first;
+  std::vector<std::array<int32_t, 3>> out(s.triangles.size(), {-1, -1, -1});
+  for (size_t t = 0; t < s.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = s.triangles[t][k], b = s.triangles[t][(k + 1) % 3];
+      const auto [it, added] = first.try_emplace({std::min(a, b), std::max(a, b)}, int32_t(t));
+      if (added) continue;
+      const int32_t u = it->second;
+      out[t][k] = u;
+      for (int j = 0; j < 3; ++j)
+        if (out[u][j] < 0) {
+          const int32_t c = s.triangles[u][j], d = s.triangles[u][(j + 1) % 3];
+          if (std::min(c, d) == std::min(a, b) && std::max(c, d) == std::max(a, b)) out[u][j] = int32_t(t);
+        }
+    }
+  return out;
+}
+
+// Per thread: the least ball radius around p within which each triangle is reachable from p's
+// triangle across shared edges (a bottleneck shortest path). A triangle's part in a ball is
+// convex, so two triangles connect inside the ball exactly where their shared edge meets it: this
+// is the connectivity of the surface within the ball, grown on demand.
+class Reach {
+ public:
+  Reach(const Triangles& tris, const std::vector<std::array<int32_t, 3>>& adj)
+      : tris_(tris), adj_(adj), radius_(tris.size(), INFINITY) {}
+
+  void start(int32_t t, Vec3 p) {
+    for (int32_t u : touched_) radius_[u] = INFINITY;
+    touched_.clear();
+    queue_ = {};
+    p_ = point(p);
+    push(t, 0);
+  }
+  // Is triangle q reachable within the ball of radius `ball`?
+  bool reaches(int32_t q, double ball) {
+    grow(ball);
+    return radius_[q] <= ball;
+  }
+
+ private:
+  void push(int32_t t, double r) {
+    if (r >= radius_[t]) return;
+    if (radius_[t] == INFINITY) touched_.push_back(t);
+    radius_[t] = r;
+    queue_.push({r, t});
+  }
+  // Settles every triangle whose bottleneck radius is at most `ball`.
+  void grow(double ball) {
+    while (!queue_.empty() && queue_.top().first <= ball) {
+      const auto [r, t] = queue_.top();
+      queue_.pop();
+      if (r > radius_[t]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int32_t u = adj_[t][k];
+        if (u < 0 || radius_[u] <= r) continue;
+        const K::Segment_3 edge(tris_[t].vertex(k), tris_[t].vertex(k + 1));  // adj_[t][k] is across it
+        push(u, std::max(r, std::sqrt(CGAL::to_double(CGAL::squared_distance(p_, edge)))));
+      }
+    }
+  }
+  const Triangles& tris_;
+  const std::vector<std::array<int32_t, 3>>& adj_;
+  std::vector<double> radius_;
+  std::vector<int32_t> touched_;
+  std::priority_queue<std::pair<double, int32_t>, std::vector<std::pair<double, int32_t>>, std::greater<>> queue_;
+  K::Point_3 p_;
+};
+
+FeatureSizeReport::Measure summarise(const std::vector<double>& value, const std::vector<double>& area,
+                             const std::vector<Vec3>& centroid) {
+  FeatureSizeReport::Measure s;
+  double total = 0;
+  std::vector<std::pair<double, double>> below;
+  for (size_t t = 0; t < value.size(); ++t) {
+    total += area[t];
+    if (!std::isfinite(value[t])) continue;
+    below.push_back({value[t], area[t]});
+    if (value[t] < s.min) s.min = value[t], s.where = centroid[t];
+  }
+  std::sort(below.begin(), below.end());
+  double sum = 0;
+  for (const auto& [v, a] : below) {
+    sum += a;
+    if (sum >= 0.01 * total && !std::isfinite(s.quantile_1)) s.quantile_1 = v;
+    if (sum >= 0.10 * total && !std::isfinite(s.quantile_10)) s.quantile_10 = v;
+    if (sum >= 0.50 * total && !std::isfinite(s.quantile_50)) s.quantile_50 = v;
+  }
+  s.area_below_cap = total > 0 ? sum / total : 0;
+  return s;
+}
+
+}  // namespace
+
+FeatureSize measure_feature_size(const Domain& domain, double cap) {
+  const TriangleSurface& S = domain.surface;
+  const size_t n = S.triangles.size();
+  FeatureSize out;
+  out.cap = cap;
+  out.report.cap = cap;
+  out.thickness.assign(n, INFINITY), out.gap.assign(n, INFINITY);
+  if (n == 0) return out;
+  Triangles tris;
+  tris.reserve(n);
+  std::vector<double> area(n);
+  std::vector<Vec3> centroid(n), normal(n);
+  for (size_t t = 0; t < n; ++t) {
+    const Vec3 a = S.vertices[S.triangles[t][0]], b = S.vertices[S.triangles[t][1]], c = S.vertices[S.triangles[t][2]];
+    tris.emplace_back(point(a), point(b), point(c));
+    const Vec3 cr = cross(b - a, c - a);
+    area[t] = norm(cr) / 2;
+    normal[t] = (1 / norm(cr)) * cr;
+    centroid[t] = (1.0 / 3) * (a + b + c);
+  }
+  Tree tree(tris.begin(), tris.end());
+  tree.accelerate_distance_queries();
+  const auto adj = edge_neighbours(S);
+  // Smooth patches: triangles joined across edges that are not features (turning by at most the
+  // feature angle, as features.hpp classifies them).
+  const double angle = domain.features.angle_degrees > 0 ? domain.features.angle_degrees : kDefaultFeatureAngle;
+  const double flat_cosine = std::cos(angle * M_PI / 180);
+  UnionFind patches(n);
+  for (size_t t = 0; t < n; ++t)
+    for (int32_t u : adj[t])
+      if (u >= 0 && dot(normal[t], normal[size_t(u)]) >= flat_cosine) patches.unite(int32_t(t), u);
+  std::vector<int32_t> patch(n), shell(n);
+  for (size_t t = 0; t < n; ++t) patch[t] = patches.find(int32_t(t));
+  UnionFind shells(n);  // a hit on another shell is never reached over the surface
+  for (size_t t = 0; t < n; ++t)
+    for (int32_t u : adj[t])
+      if (u >= 0) shells.unite(int32_t(t), u);
+  for (size_t t = 0; t < n; ++t) shell[t] = shells.find(int32_t(t));
+
+  const double floor = 1e-12 * domain.bounds.diagonal();  // hits at the start point itself
+
+#pragma omp parallel
+  {
+    Reach reach(tris, adj);
+    std::vector<std::pair<double, int32_t>> hits;
+    std::vector<Tree::Intersection_and_primitive_id<K::Segment_3>::Type> found;
+#pragma omp for schedule(dynamic, 256)
+    for (size_t t = 0; t < n; ++t) {
+      for (int side = 0; side < 2; ++side) {  // 0: into the solid (thickness), 1: out of it (gap)
+        const Vec3 d = side == 0 ? -1.0 * normal[t] : normal[t];
+        const Vec3 p = centroid[t];
+        found.clear();
+        tree.all_intersections(K::Segment_3(point(p), point(p + cap * d)), std::back_inserter(found));
+        hits.clear();
+        for (const auto& [object, id] : found) {
+          const int32_t q = int32_t(id - tris.cbegin());
+          if (q == int32_t(t)) continue;
+          double at = INFINITY;
+          if (const K::Point_3* x = boost::get<K::Point_3>(&object)) at = dot(vec(*x) - p, d);
+          else if (const K::Segment_3* s = boost::get<K::Segment_3>(&object))
+            at = std::min(dot(vec(s->source()) - p, d), dot(vec(s->target()) - p, d));
+          if (at > floor) hits.push_back({at, q});
+        }
+        if (hits.empty()) continue;
+        std::sort(hits.begin(), hits.end());
+        reach.start(int32_t(t), p);
+        for (const auto& [at, q] : hits) {
+          if (patch[size_t(q)] == patch[t] || shell[size_t(q)] != shell[t] ||
+              !reach.reaches(q, FeatureSize::kLocality * at)) {
+            (side == 0 ? out.thickness : out.gap)[t] = at;
+            break;
+          }
+        }
+      }
+    }
+  }
+  out.report = {true, cap, summarise(out.thickness, area, centroid), summarise(out.gap, area, centroid)};
+  return out;
+}
+
+}  // namespace froth
