@@ -10,6 +10,7 @@ namespace froth {
 struct FacePlane {
   Vec3 normal;  // unit, or zero for a degenerate polygon
   Vec3 centroid;
+  double area = 0;
 };
 
 // `vertex(k)` gives vertex k of the n, in order.
@@ -22,7 +23,7 @@ FacePlane best_fit_plane(size_t n, Vertex&& vertex) {
     centroid = centroid + u;
   }
   const double len = norm(normal);
-  return {len > 0 ? (1 / len) * normal : normal, (1.0 / double(n)) * centroid};
+  return {len > 0 ? (1 / len) * normal : normal, (1.0 / double(n)) * centroid, len / 2};
 }
 
 }  // namespace froth

@@ -51,14 +51,17 @@ double border_area(const PolyMesh& m) {
 namespace {
 
 // The best-fit plane of each face of cell c (unit normal, offset), relative to `origin`; returns
-// the largest distance of a plane beyond the origin (0 if none is).
-double cell_planes(const PolyMesh& m, size_t c, Vec3 origin, std::vector<Vec3>& normals, std::vector<double>& offsets) {
+// the largest distance of a plane beyond the origin (0 if none is). Faces of area below
+// `min_area` are left out: a sliver's plane is round-off, and a fan over it has no volume anyway.
+double cell_planes(const PolyMesh& m, size_t c, Vec3 origin, double min_area, std::vector<Vec3>& normals,
+                   std::vector<double>& offsets) {
   double beyond = 0;
   normals.clear();
   offsets.clear();
   for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
     const int64_t b = m.face_vertex_begin[f], n = m.face_vertex_begin[f + 1] - b;
     const FacePlane p = best_fit_plane(size_t(n), [&](size_t k) { return m.points[m.face_vertices[b + int64_t(k)]] - origin; });
+    if (p.area < min_area) continue;
     normals.push_back(p.normal);
     offsets.push_back(dot(p.normal, p.centroid));
     beyond = std::max(beyond, -offsets.back());
@@ -77,11 +80,11 @@ std::vector<Vec3> fan_centers(const PolyMesh& m, double tolerance) {
 #pragma omp for schedule(dynamic, 64)
     for (size_t c = 0; c < m.cell_count(); ++c) {
       const Vec3 x = m.seeds[c];
-      cell_planes(m, c, x, normals, offsets);
+      cell_planes(m, c, x, tolerance * tolerance, normals, offsets);
       // The seed, when it is inside every face plane by the tolerance (a seed on the surface is
       // not: a fan from it has flat tetrahedra); else the centre of the largest ball in the
       // kernel; for an empty kernel, the point least beyond any face plane (the same program).
-      if (*std::min_element(offsets.begin(), offsets.end()) > tolerance) {
+      if (offsets.empty() || *std::min_element(offsets.begin(), offsets.end()) > tolerance) {
         centers[c] = x;
         continue;
       }
@@ -102,7 +105,7 @@ StarShape star_shape(const PolyMesh& m, double tolerance, size_t begin, size_t e
     std::vector<double> offsets;  // of the face planes, relative to the seed
 #pragma omp for schedule(static)
     for (size_t c = begin; c < end; ++c) {
-      const double cell_worst = cell_planes(m, c, m.seeds[c], normals, offsets);
+      const double cell_worst = cell_planes(m, c, m.seeds[c], tolerance * tolerance, normals, offsets);
       if (cell_worst > tolerance) {
         ++bad;
         const InscribedBall kernel = largest_inscribed_ball(normals, offsets);

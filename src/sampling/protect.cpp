@@ -59,16 +59,21 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
     for (int k = 0; k < 3; ++k) at_edge[{tri[k], tri[(k + 1) % 3]}] = int32_t(t);
   }
 
-  // Pieces, grouped into lines: maximal straight runs of a curve. The 1D argument holds along a
-  // straight line, so a curve gets a vertex seed at each end and where it bends, and a seed
-  // covers only the line it lies on (the lines that end at it, for a vertex seed): a point of
-  // one reflex edge must be closest to a seed on that edge, not to one on its neighbour.
+  // Pieces, grouped into lines: runs of a curve between its true corners, where it turns by more
+  // than the feature angle. A tessellated arc (a hole's rim, a concave fillet's edge) is one
+  // line, sampled along its length, not a vertex seed at every facet's corner. A curve gets a
+  // vertex seed at each end and corner, and a seed covers only the line it lies on (the lines
+  // that end at it, for a vertex seed): a point of one reflex edge must be closest to a seed on
+  // that line, not to one on its neighbour. Disks are Euclidean, so seeds of one line keep r_e
+  // apart however it bends.
   std::vector<Piece> pieces;
   std::vector<int32_t> line_of_piece;
   std::map<int32_t, std::vector<int32_t>> lines_at_vertex;  // vertex seeds and the lines they end
   int32_t lines = 0;
+  const double corner_cosine = std::cos(
+      (domain.features.angle_degrees > 0 ? domain.features.angle_degrees : kDefaultFeatureAngle) * M_PI / 180);
   auto bends = [&](int32_t a, int32_t b, int32_t c) {
-    return norm(cross(unit(S.vertices[b] - S.vertices[a]), unit(S.vertices[c] - S.vertices[b]))) > 1e-9;
+    return dot(unit(S.vertices[b] - S.vertices[a]), unit(S.vertices[c] - S.vertices[b])) < corner_cosine;
   };
   for (const auto& curve : domain.reflex_curves) {
     const bool closed = curve.front() == curve.back() && curve.size() > 2;

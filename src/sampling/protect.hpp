@@ -1,8 +1,10 @@
-// Protection of reflex edges (paper §2.2): a seed at both ends of every straight run of reflex
-// edges, and each run maximally Poisson-disk sampled in 1D with r_e = r/sqrt(2). A seed off the
-// runs that keeps distance r from two consecutive seeds of a run (at most 2 r_e apart) is at
+// Protection of reflex edges (paper §2.2): a seed at both ends of every run of reflex edges
+// between true corners (turns over the feature angle), and each run maximally Poisson-disk
+// sampled along its length with Euclidean disks of r_e = r/sqrt(2). On a straight run, a seed off
+// it that keeps distance r from two consecutive seeds of the run (at most 2 r_e apart) is at
 // least r_e from the run, so every point of a reflex edge is closest to a seed on it: the edge
-// lies inside edge and vertex cells, and the other cells never wrap around it.
+// lies inside edge and vertex cells, and the other cells never wrap around it. A tessellated arc
+// bends by less than the feature angle at each vertex: the argument holds up to its curvature.
 #pragma once
 #include <cstdint>
 #include <vector>

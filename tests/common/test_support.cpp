@@ -41,6 +41,14 @@ Vec3 face_normal(const PolyMesh& m, int64_t f) {
   return (1 / norm(n)) * n;
 }
 
+double face_area(const PolyMesh& m, int64_t f) {
+  const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+  const Vec3 o = m.points[m.face_vertices[b]];
+  Vec3 n{};
+  for (int64_t k = b + 1; k + 1 < e; ++k) n = n + cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1]] - o);
+  return norm(n) / 2;
+}
+
 Vec3 face_centroid(const PolyMesh& m, int64_t f) {
   Vec3 c;
   int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];

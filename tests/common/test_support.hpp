@@ -15,6 +15,7 @@ double min_seed_distance(const std::vector<Vec3>& seeds, double r);
 // Newell normal (unit, outward for a counter-clockwise face) and centroid of face f.
 Vec3 face_normal(const PolyMesh& m, int64_t f);
 Vec3 face_centroid(const PolyMesh& m, int64_t f);
+double face_area(const PolyMesh& m, int64_t f);  // Newell
 
 // Interior dihedral angles (degrees) of cell c between faces sharing an edge.
 std::vector<double> dihedral_angles(const PolyMesh& m, size_t c);
