@@ -80,23 +80,83 @@ struct Loops {
   void clear() { ids.clear(), begin.assign(1, 0); }
 };
 
+using Point2 = std::pair<double, double>;
+
+// In-plane coordinates of p for a plane with unit normal n.
+Point2 in_plane(Vec3 p, Vec3 n) {
+  const Vec3 u = std::abs(n.x) < 0.6 ? Vec3{0, -n.z, n.y} : Vec3{-n.y, n.x, 0};
+  const Vec3 uu = (1 / norm(u)) * u, vv = cross(n, uu);
+  return {dot(p, uu), dot(p, vv)};
+}
+
+// Chains directed edges at a point where a face's region touches itself (a pinch: the point has
+// several edges leaving it), in a plane of unit normal n. The region lies left of its edges, so
+// at a pinch the loop that arrived along one of the region's wedges leaves along the other side
+// of that wedge: the leaving edge first met turning clockwise from the way back. Loops then
+// touch at the pinch instead of crossing there, and the same loops come out for either normal.
+bool chain_pinched_loops(const std::vector<Edge>& edges, const std::vector<Vec3>& pts, Vec3 n, Loops& loops) {
+  loops.clear();
+  std::vector<size_t> order(edges.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return edges[a].from < edges[b].from; });
+  auto leaving = [&](int32_t p) {
+    auto lo = std::lower_bound(order.begin(), order.end(), p, [&](size_t e, int32_t q) { return edges[e].from < q; });
+    auto hi = lo;
+    while (hi != order.end() && edges[*hi].from == p) ++hi;
+    return std::pair{lo, hi};
+  };
+  auto angle = [&](int32_t from, int32_t to) {
+    const auto [ax, ay] = in_plane(pts[from], n);
+    const auto [bx, by] = in_plane(pts[to], n);
+    return std::atan2(by - ay, bx - ax);
+  };
+  std::vector<uint8_t> used(edges.size(), 0);
+  for (size_t start = 0; start < edges.size(); ++start) {
+    if (used[start]) continue;
+    size_t e = start;
+    while (!used[e]) {
+      used[e] = 1;
+      loops.ids.push_back(edges[e].from);
+      const int32_t p = edges[e].to;
+      const double back = angle(p, edges[e].from);
+      size_t next = edges.size();
+      double best = INFINITY;
+      const auto [lo, hi] = leaving(p);
+      for (auto it = lo; it != hi; ++it) {
+        if (used[*it] && *it != start) continue;
+        double turn = back - angle(p, edges[*it].to);  // clockwise from the way back, in (0, 2 pi]
+        while (turn <= 0) turn += 2 * M_PI;
+        while (turn > 2 * M_PI) turn -= 2 * M_PI;
+        if (turn < best) best = turn, next = *it;
+      }
+      if (next == edges.size()) return false;
+      if (next == start) break;
+      e = next;
+    }
+    if (edges[e].to != edges[start].from) return false;
+    loops.begin.push_back(uint32_t(loops.ids.size()));
+  }
+  return true;
+}
+
 // Chains directed edges between points 0 .. points-1 into closed loops (each starting at the
-// first of its edges in `edges`); false if a point has two outgoing edges or a chain does not
-// close. `leaving` (the edge leaving each point, -1 if none: all -1 between calls) and `used`
-// are scratch.
+// first of its edges in `edges`); false if a chain does not close. `leaving` (the edge leaving
+// each point, -1 if none: all -1 between calls) and `used` are scratch. A point with several
+// edges leaving it (a pinch) is chained by chain_pinched_loops in the plane of normal n.
 bool chain_loops(const std::vector<Edge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
-                 std::vector<uint8_t>& used) {
+                 std::vector<uint8_t>& used, const std::vector<Vec3>& pts, Vec3 n) {
   loops.clear();
   if (leaving.size() < points) leaving.resize(points, -1);
-  bool ok = true;
+  bool pinched = false;
   size_t set = 0;
   for (; set < edges.size(); ++set) {
     if (leaving[edges[set].from] >= 0) {
-      ok = false;
+      pinched = true;
       break;
     }
     leaving[edges[set].from] = int32_t(set);
   }
+  bool ok = !pinched;
   used.assign(edges.size(), 0);
   for (size_t k = 0; ok && k < edges.size(); ++k) {
     const int32_t start = edges[k].from;
@@ -113,16 +173,7 @@ bool chain_loops(const std::vector<Edge>& edges, size_t points, Loops& loops, st
     else loops.begin.push_back(uint32_t(loops.ids.size()));
   }
   for (size_t k = 0; k < set; ++k) leaving[edges[k].from] = -1;
-  return ok;
-}
-
-using Point2 = std::pair<double, double>;
-
-// In-plane coordinates of p for a plane with unit normal n.
-Point2 in_plane(Vec3 p, Vec3 n) {
-  const Vec3 u = std::abs(n.x) < 0.6 ? Vec3{0, -n.z, n.y} : Vec3{-n.y, n.x, 0};
-  const Vec3 uu = (1 / norm(u)) * u, vv = cross(n, uu);
-  return {dot(p, uu), dot(p, vv)};
+  return pinched ? chain_pinched_loops(edges, pts, n, loops) : ok;
 }
 
 // Is p inside the polygon `loop` (counter-clockwise about n)? Even-odd rule in the plane.
@@ -478,7 +529,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     if (segs.empty()) continue;
     if (ConvexCell::is_cube_generator(g))
       return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
-    if (!chain_loops(segs, pts.size(), loops, w.chain_leaving, w.chain_used))
+    if (!chain_loops(segs, pts.size(), loops, w.chain_leaving, w.chain_used, pts, plane[f].normal))
       return fail_with(fmt::format("the face on generator {} does not close", g));
     drop_seam_points(loops);
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
@@ -502,7 +553,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (const Edge& e : plane_edges)
       if (!std::binary_search(plane_edges.begin(), plane_edges.end(), Edge{e.to, e.from})) kept.push_back(e);
     if (kept.empty()) continue;
-    if (!chain_loops(kept, pts.size(), loops, w.chain_leaving, w.chain_used))
+    if (!chain_loops(kept, pts.size(), loops, w.chain_leaving, w.chain_used, pts, domain_.planes[-facet - 1].normal))
       return fail_with(fmt::format("the border face on facet plane {} does not close", -facet - 1));
     drop_seam_points(loops);
     if (!add_faces_with_holes(loops, domain_.planes[-facet - 1].normal, facet))
