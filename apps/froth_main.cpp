@@ -35,6 +35,8 @@ struct MeshArgs {
   double feature_angle = froth::kDefaultFeatureAngle;
   bool repair = false;
   bool partition = false;
+  bool grade = false;
+  double min_r = 0, max_grading = 0.2;
 };
 
 std::string default_output(const std::string& input) {
@@ -76,9 +78,15 @@ std::string details_sentence(const froth::RunReport& run) {
                        run.without_kernel);
   for (const auto& [what, m] : {std::pair{"walls", run.feature_size.thickness}, std::pair{"gaps", run.feature_size.gap}})
     if (std::isfinite(m.min))
-      out += fmt::format(" {} narrower than r on {:.2g}% of the surface (narrowest {:.3g} = {:.3g} r, at ({:.4g}, {:.4g}, "
-                         "{:.4g})).",
-                         what, 100 * m.area_below_cap, m.min, m.min / run.r, m.where.x, m.where.y, m.where.z);
+      out += fmt::format(" {} narrower than {}r on {:.3g}% of the surface (narrowest {:.3g} = {:.3g} r, at ({:.4g}, "
+                         "{:.4g}, {:.4g})).",
+                         what, run.feature_size.cap > run.r ? "2" : "", 100 * m.area_below_cap, m.min, m.min / run.r,
+                         m.where.x, m.where.y, m.where.z);
+  if (run.sizing.graded)
+    out += fmt::format(" Sizing graded to the walls and gaps: h from {:.3g} (= {:.3g} r, floor --min-r {:.3g}) to r, slope "
+                       "at most {:.2g}; h < r on {:.3g}% of the bounding box.",
+                       run.sizing.smallest, run.sizing.smallest / run.r, run.sizing.min_r, run.sizing.lipschitz,
+                       100 * run.sizing.graded_fraction);
   if (run.split_seeds > 0)
     out += fmt::format(" {} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces became "
                        "{} more cells (cell data piece > 0).",
@@ -137,6 +145,7 @@ froth::MeshOptions mesh_options(const MeshArgs& a, bool tell) {
   opt.weld = weld_tolerance(a.weld, a.r);
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
+  opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
   if (tell && isatty(STDERR_FILENO))
     opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
   return opt;
@@ -394,6 +403,12 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_option("--feature-angle", a.feature_angle,
                    "input edges turning by more than this many degrees are features (default 30)");
   mesh->add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
+  mesh->add_flag("--grade", a.grade,
+                 "grade the radius to the input's thin walls and gaps: h(x) <= r, at least --min-r (experimental)");
+  mesh->add_option("--min-r", a.min_r, "with --grade: the smallest radius h may take (default r/4)")
+      ->check(CLI::PositiveNumber);
+  mesh->add_option("--max-grading", a.max_grading,
+                   "with --grade: the slope of h along its grid, in (0, 0.25) (default 0.2; |grad h| <= sqrt(3) times it)");
   mesh->add_flag("--partition", a.partition,
                  "split the mesh over the MPI ranks (slabs of the sampling grid along z); writes a .pvtu with one "
                  "piece per rank, the same cells as one process makes");

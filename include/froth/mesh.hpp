@@ -83,10 +83,13 @@ struct PolyMesh {
   // A point each cell is star-shaped from (validate.hpp's fan_centers); empty: the seeds, as in
   // a convex domain, where every cell holds its seed and is convex.
   std::vector<Vec3> centers;
+  // Each cell's exclusion radius, h at its seed; empty: r for every cell.
+  std::vector<double> radii;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }
   Vec3 center_of(size_t c) const { return centers.empty() ? seeds[c] : centers[c]; }
+  double radius_of(size_t c, double r) const { return radii.empty() ? r : radii[c]; }
   size_t face_count() const { return face_generator.size(); }
 };
 
@@ -97,6 +100,10 @@ struct MeshOptions {
   int threads = 0;           // 0 = all cores; never changes the result
   bool quality = false;      // measure every cell (mesh.quality, report.quality)
   std::function<void(const std::string& stage)> progress;  // told when a stage starts
+  // A radius graded to the input's thin walls and gaps (sampling/sizing.hpp): h(x) <= r, at
+  // least min_r (0: r/4), with slope `grading` along the sizing grid. Off: h = r everywhere.
+  bool grade = false;
+  double min_r = 0, grading = 0.2;
 };
 
 struct StageTiming {
@@ -151,7 +158,12 @@ struct RunReport {
   double weld = 0;
   int threads = 0;
   FeatureSummary features;  // of the input surface
-  FeatureSizeReport feature_size;  // thin walls and narrow gaps, up to r
+  FeatureSizeReport feature_size;  // thin walls and narrow gaps, up to r (2r when grading)
+  struct Sizing {
+    bool graded = false;  // h < r somewhere: the graded sampler ran
+    double min_r = 0, grading = 0, lipschitz = 0, smallest = 0;
+    double graded_fraction = 0, extra_cell_fraction = 0;  // of the bounding box, by sizing node
+  } sizing;
   struct Input {
     bool convex = true;
     size_t triangles = 0, shells = 0, cavities = 0;

@@ -246,7 +246,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       w, n * 8,
       [&](std::ostream& out) {
         ValueWriter<double> vw(out);
-        for (size_t c = 0; c < n; ++c) vw.put(run.r);
+        for (size_t c = 0; c < n; ++c) vw.put(m.radius_of(c, run.r));
       },
       "Float64", "radius");
   if (m.quality.size() == n) {

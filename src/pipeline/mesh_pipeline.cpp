@@ -15,6 +15,8 @@
 #include "froth/validate.hpp"
 #include "froth/weld.hpp"
 #include "features/feature_size.hpp"
+#include "sampling/graded_mps.hpp"
+#include "sampling/sizing.hpp"
 #include "pipeline/partition.hpp"
 #include "sampling/mps.hpp"
 #include "voronoi/tessellation.hpp"
@@ -93,11 +95,29 @@ size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
 }
 
 // Thin walls and narrow gaps of the input, up to r: reported (what r the part's features ask for).
-void measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
-  if (domain.surface.triangles.empty()) return;
+// With grading, up to 2r: walls below 2r shrink h (sampling/sizing.hpp).
+FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
+  if (domain.surface.triangles.empty()) return {};
   if (opt.progress) opt.progress("feature size");
-  run.feature_size = measure_feature_size(domain, opt.r).report;
+  FeatureSize fs = measure_feature_size(domain, opt.grade ? 2 * opt.r : opt.r);
+  run.feature_size = fs.report;
   run.stages.push_back({"feature size", watch.lap(), peak_rss_bytes()});
+  return fs;
+}
+
+// The sizing field: uniform unless grading is asked for and a wall or gap needs it.
+SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const MeshOptions& opt, RunReport& run) {
+  if (!opt.grade || fs.thickness.empty()) return SizingField::uniform(opt.r);
+  if (!(opt.grading > 0) || !(opt.grading < 0.25))
+    fail(ErrorKind::Usage, fmt::format("--max-grading must be in (0, 0.25), got {} (the field's slope is sqrt(3) times "
+                                       "it, below 1/2 for the maximality bound)",
+                                       opt.grading));
+  if (!(opt.min_r >= 0) || opt.min_r > opt.r)
+    fail(ErrorKind::Usage, fmt::format("--min-r must be in (0, r], got {}", opt.min_r));
+  SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading});
+  run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
+                h.extra_cell_fraction};
+  return h;
 }
 
 void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
@@ -210,9 +230,11 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
     if (opt.progress) opt.progress(stage);
   };
   Stopwatch total, watch;
-  measure_features(domain, opt, run, watch);
+  const FeatureSize fs = measure_features(domain, opt, run, watch);
+  const SizingField sizing = sizing_field(domain, fs, opt, run);
   progress("sampling");
-  Sample sample = sample_maximal_poisson_disk(domain, opt.r, opt.seed);
+  Sample sample = sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed)
+                                      : sample_graded_poisson_disk(domain, sizing, opt.seed);
   run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
   run.sampling = sample.stats;
   release_freed_memory();  // the sampler's freed work lists, before the cells' peak
@@ -221,6 +243,10 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   progress("cells");
   TessellationTimes tt;
   PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
+  if (!sizing.is_uniform()) {
+    mesh.radii.resize(mesh.cell_count());
+    for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
+  }
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
@@ -241,6 +267,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PartitionReport& part = partition ? *partition : local_part;
   start_run(domain, opt, run);
   Stopwatch total, watch;
+  if (opt.grade) fail(ErrorKind::Usage, "--partition does not take --grade yet: mesh a graded domain in one process");
   measure_features(domain, opt, run, watch);
   part.rank = comm.rank();
   part.ranks = comm.size();

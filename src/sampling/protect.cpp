@@ -45,7 +45,8 @@ Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
 
 }  // namespace
 
-ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed) {
+ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed,
+                                        const std::function<double(Vec3)>& h) {
   ProtectionSeeds out;
   if (domain.reflex_curves.empty()) return out;
   const auto& S = domain.surface;
@@ -107,7 +108,8 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
   auto add = [&](Vec3 p, CellKind kind, Vec3 in, const std::vector<int32_t>& on_lines) {
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
     for (size_t k = 0; k < pieces.size(); ++k)
-      if (std::find(on_lines.begin(), on_lines.end(), line_of_piece[k]) != on_lines.end()) cover(pieces[k], p, re);
+      if (std::find(on_lines.begin(), on_lines.end(), line_of_piece[k]) != on_lines.end())
+        cover(pieces[k], p, h ? h(p) / std::sqrt(2.0) : re);
   };
 
   const CounterRng rng(seed, RandomStream::Protection);

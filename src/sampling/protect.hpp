@@ -7,6 +7,7 @@
 // bends by less than the feature angle at each vertex: the argument holds up to its curvature.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "froth/domain.hpp"
@@ -24,6 +25,9 @@ struct ProtectionSeeds {
 
 // A pure function of (domain, r, seed). Seeds of one run keep r_e from each other; seeds of
 // different runs may be closer where runs meet at a small angle (the paper's sharp edges).
-ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed);
+// With a sizing field `h` (sampling/sizing.hpp), the disks are h_e = h(p)/sqrt(2) around each
+// seed p instead (the "prior" rule: a later seed keeps the earlier one's radius).
+ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed,
+                                        const std::function<double(Vec3)>& h = {});
 
 }  // namespace froth
