@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include "common/random.hpp"
 #include "common/surface_locator.hpp"
@@ -33,6 +32,7 @@ class GradedSampler {
     s_.grid = BackgroundGrid::covering(d.bounds, r_);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
+    head_.assign(s_.grid.cube_count(), -1);
   }
 
   Sample run() {
@@ -88,9 +88,7 @@ class GradedSampler {
   template <class F>
   void for_seeds_near(Vec3 p, double reach, F&& f) const {
     s_.grid.for_cubes_near(p, reach, [&](int64_t c) {
-      const auto it = in_cube_.find(c);
-      if (it != in_cube_.end())
-        for (int32_t q : it->second) f(q);
+      for (int32_t q = head_[size_t(c)]; q >= 0; q = next_[size_t(q)]) f(q);
     });
   }
   bool covered(Vec3 p) const {
@@ -171,7 +169,9 @@ class GradedSampler {
   }
 
   void add_seed(Vec3 p, double radius) {
-    in_cube_[base_of(p)].push_back(int32_t(seeds_.size()));
+    const int64_t c = base_of(p);
+    next_.push_back(head_[size_t(c)]);
+    head_[size_t(c)] = int32_t(seeds_.size());
     seeds_.push_back(p), radius_.push_back(radius);
   }
 
@@ -189,14 +189,14 @@ class GradedSampler {
 
   // Seeds numbered by base cube, each cube's in the order they came.
   Sample finish() {
-    std::vector<int64_t> cubes;
-    for (const auto& [c, ids] : in_cube_) cubes.push_back(c);
-    std::sort(cubes.begin(), cubes.end());
-    std::vector<int32_t> new_id(seeds_.size(), -1);
+    std::vector<int32_t> new_id(seeds_.size(), -1), ids;
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
     s_.cube_extra_begin.assign(1, 0);
-    for (int64_t c : cubes) {
-      const std::vector<int32_t>& ids = in_cube_.at(c);
+    for (size_t c = 0; c < head_.size(); ++c) {
+      if (head_[c] < 0) continue;
+      ids.clear();
+      for (int32_t q = head_[c]; q >= 0; q = next_[size_t(q)]) ids.push_back(q);
+      std::reverse(ids.begin(), ids.end());  // in the order they came
       for (int32_t q : ids) new_id[q] = int32_t(s_.seeds.size()), s_.seeds.push_back(seeds_[q]);
       if (ids.size() == 1) {
         s_.cube_seed[c] = new_id[ids[0]];
@@ -222,7 +222,8 @@ class GradedSampler {
   std::vector<Vec3> seeds_;
   std::vector<double> radius_;  // each seed's disk: h at the seed
   std::vector<Sample::Protected> protection_;
-  std::unordered_map<int64_t, std::vector<int32_t>> in_cube_;  // base cube -> seeds
+  // The seeds of each base cube as a list: its last seed, and each seed's previous one there.
+  std::vector<int32_t> head_, next_;
   mutable std::vector<int32_t> scratch_;
 };
 
