@@ -14,6 +14,7 @@
 
 #include <fmt/format.h>
 
+#include "features/feature_size.hpp"
 #include "froth/froth.hpp"
 
 namespace {
@@ -34,9 +35,9 @@ struct Timed {
 
 // The fastest of `repeat` runs (the same mesh each time): this machine's timings wander by
 // +-15% from run to run.
-Timed mesh(const froth::Domain& d, double r, int threads, int repeat) {
+Timed mesh(const froth::Domain& d, double r, int threads, int repeat, bool grade = false) {
   froth::MeshOptions o;
-  o.r = r, o.seed = 1, o.threads = threads;
+  o.r = r, o.seed = 1, o.threads = threads, o.grade = grade;
   Timed best;
   for (int k = 0; k < repeat; ++k) {
     Timed t;
@@ -84,10 +85,13 @@ int main(int argc, char** argv) {
   fmt::print("non-convex domains at about {:.0f} cells, {} threads, against a box of the same volume and r; the "
              "fastest of {} runs each\n",
              cells, threads, repeat);
-  fmt::print("{:<34} {:>8} {:>8} {:>7} {:>8} {:>8} | {:>8} {:>8} | {:>7} {:>12}\n", "domain", "cells", "border", "load s",
-             "cells s", "total s", "box cells", "box s", "ratio", "border/inner");
+  fmt::print("{:<34} {:>8} {:>8} {:>7} {:>8} {:>8} | {:>8} {:>8} | {:>7} {:>12} | {:>8} {:>8} {:>7}\n", "domain",
+             "cells", "border", "load s", "cells s", "total s", "box cells", "box s", "ratio", "border/inner",
+             "graded", "grade s", "ratio");
   for (const char* model : {"7_8ths_cube.stl", "hollow_sphere.off", "torus.STL", "plate_holes.STL", "shape_ibeam.stl",
-                            "round.stl", "two_objects_mixed_case_names.stl", "step.off"}) {
+                            "round.stl", "two_objects_mixed_case_names.stl", "step.off", "1002_tray_bottom.STL",
+                            "ADIS16480.STL", "hinge.stl", "multi_region_heater/heater.stl",
+                            "multi_region_heater/leftSolid.stl"}) {
     if (!std::filesystem::exists(dir + "/" + model)) continue;  // a folder with some of the models
     auto t0 = Clock::now();
     const froth::Domain d = froth::load_domain(dir + "/" + model);
@@ -104,19 +108,29 @@ int main(int argc, char** argv) {
       continue;
     }
     b = mesh(box, r, threads, repeat);
+    // With --grade: the cells grading added and their time per cell against the box's.
+    Timed g;
+    try {
+      g = mesh(d, r, threads, repeat, true);
+    } catch (const froth::Error& e) {
+      fmt::print("{:<34} graded run failed: {}\n", model, e.what());
+    }
     // Cost per cell of the cells stage: the box's cells are nearly all interior (cut by planes
     // at most), so its time per cell prices an interior cell; the rest is the border cells'.
     const size_t border = m.run.cells - m.run.interior_cells;
     const double inner = stage(b.run, "cells") / double(b.run.cells);
     const double per_border = (stage(m.run, "cells") - inner * double(m.run.interior_cells)) / double(border);
-    fmt::print("{:<34} {:>8} {:>8} {:>7.3f} {:>8.3f} {:>8.3f} | {:>8} {:>8.3f} | {:>7.2f} {:>12.1f}\n", model,
-               m.run.cells, border, load, stage(m.run, "cells"), m.total, b.run.cells, b.total,
-               (m.total / double(m.run.cells)) / (b.total / double(b.run.cells)), per_border / inner);
+    const double box_per_cell = b.total / double(b.run.cells);
+    fmt::print("{:<34} {:>8} {:>8} {:>7.3f} {:>8.3f} {:>8.3f} | {:>8} {:>8.3f} | {:>7.2f} {:>12.1f} | {:>8} {:>8.3f} {:>7.2f}\n",
+               model, m.run.cells, border, load, stage(m.run, "cells"), m.total, b.run.cells, b.total,
+               (m.total / double(m.run.cells)) / box_per_cell, per_border / inner, g.run.cells, g.total,
+               g.run.cells ? (g.total / double(g.run.cells)) / box_per_cell : 0.0);
     std::fflush(stdout);
   }
   fmt::print("total s: sampling + cells + assembly + check, file writing excluded; ratio = time per cell of the "
              "domain / of the box;\nborder/inner = estimated cells-stage cost of a border cell / of an interior "
-             "cell; load s = reading and validating the surface.\n\n");
+             "cell; load s = reading and validating the surface;\ngraded = the same with --grade (the local feature size "
+             "and sizing field included in its time), ratio against the box's time per cell.\n\n");
 
   fmt::print("input validation (closed, manifold, oriented, self-intersection, nesting, planes), 1 thread\n");
   fmt::print("{:>10} {:>10}\n", "triangles", "seconds");
@@ -125,5 +139,14 @@ int main(int argc, char** argv) {
     auto t0 = Clock::now();
     const froth::Domain d = froth::domain_from_surface(s, "torus");
     fmt::print("{:>10} {:>10.3f}\n", s.triangles.size(), since(t0));
+  }
+  fmt::print("\nlocal feature size (thickness and gap of every triangle, up to the tube's diameter), {} threads\n",
+             threads);
+  fmt::print("{:>10} {:>10}\n", "triangles", "seconds");
+  for (size_t n : {10000, 100000, 400000}) {
+    const froth::Domain d = froth::domain_from_surface(torus(n), "torus");
+    auto t0 = Clock::now();
+    (void)froth::measure_feature_size(d, 1.0);
+    fmt::print("{:>10} {:>10.3f}\n", d.surface.triangles.size(), since(t0));
   }
 }

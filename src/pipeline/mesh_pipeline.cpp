@@ -120,6 +120,10 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
   return h;
 }
 
+// A piece of a cell smaller than a cube of 4 weld tolerances could collapse under welding: it
+// stays with its seed's piece instead of becoming a cell.
+double min_piece_volume(const MeshOptions& opt) { return std::pow(4 * opt.weld, 3); }
+
 void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
   if (seeds == 0) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", r));
   if (uncovered_cubes > 0)
@@ -242,7 +246,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
 
   progress("cells");
   TessellationTimes tt;
-  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt);
+  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt));
   if (!sizing.is_uniform()) {
     mesh.radii.resize(mesh.cell_count());
     for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
@@ -298,7 +302,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   // short edge at an owned vertex is seen; then the ghost cells are dropped.
   if (opt.progress) opt.progress("cells");
   TessellationTimes tt;
-  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built);
+  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt));
   // The owned seeds' cells, pieces included (a seed's pieces follow it).
   const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
                own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));

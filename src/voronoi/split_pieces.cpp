@@ -70,7 +70,7 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
       }
     }
   };
-  std::vector<double> winding, volume, around;
+  std::vector<double> winding, volume, around;  // per boundary component
   winding_about(s.anchor, winding, &volume);
   std::vector<int32_t> piece_of(size_t(components), -1);  // component -> piece, in face order
   for (int c = 0; c < components; ++c)
@@ -85,12 +85,20 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
     piece_of[c] = piece_of[size_t(host)];
   }
   if (out.count == 0) out.count = 1, piece_of.assign(size_t(components), 0);  // cannot happen for a closed cell
-  std::vector<double> piece_winding(size_t(out.count), 0.0);
-  for (int c = 0; c < components; ++c) piece_winding[size_t(piece_of[size_t(c)])] += winding[size_t(c)];
+  std::vector<double> piece_winding(size_t(out.count), 0.0), piece_volume(size_t(out.count), 0.0);
+  for (int c = 0; c < components; ++c) {
+    piece_winding[size_t(piece_of[size_t(c)])] += winding[size_t(c)];
+    piece_volume[size_t(piece_of[size_t(c)])] += volume[size_t(c)];
+  }
   for (uint32_t& p : face_piece) p = uint32_t(piece_of[p]);
-  winding = piece_winding;
-  const uint32_t home = uint32_t(std::max_element(winding.begin(), winding.end()) - winding.begin());
-  auto renumber = [home](uint32_t p) { return p == home ? 0 : p < home ? p + 1 : p; };
+  const uint32_t home = uint32_t(std::max_element(piece_winding.begin(), piece_winding.end()) - piece_winding.begin());
+  // A piece too small to outlive welding (it would collapse to nothing) stays with the seed's.
+  std::vector<uint32_t> number_of(size_t(out.count));
+  uint32_t next = 1;
+  for (int p = 0; p < out.count; ++p)
+    number_of[size_t(p)] = uint32_t(p) == home || piece_volume[size_t(p)] < s.min_volume ? 0 : next++;
+  out.count = int(next);
+  auto renumber = [&](uint32_t p) { return number_of[p]; };
   for (uint32_t p : face_piece) out.of_face.push_back(renumber(p));
   for (size_t v = 0; v < verts.size(); ++v)
     out.of_vertex.push_back({verts[v], renumber(uint32_t(piece_of[size_t(number[parts.find(int32_t(v))])]))});

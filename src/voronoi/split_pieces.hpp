@@ -13,6 +13,7 @@ namespace froth {
 struct SplitCell {
   int32_t cell;  // index in the mesh before splitting
   Vec3 anchor;   // a point strictly inside the domain in the piece that holds the seed
+  double min_volume = 0;  // a smaller piece stays with the anchor's (welding would collapse it)
 };
 
 // Splits the listed cells (sorted by cell) of an assembled mesh whose face generators are cell

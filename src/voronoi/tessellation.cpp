@@ -375,7 +375,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
-                            SeedRange built) {
+                            SeedRange built, double min_piece_volume) {
   auto t0 = std::chrono::steady_clock::now();
   if (built.end < 0) built = {0, int32_t(sample.seeds.size())};
   const int32_t first_seed = built.begin;
@@ -522,7 +522,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     for (int32_t k : ch.in_pieces) {
       const Sample::Protected* p = sample.protection_of(first_seed + k);
       const Vec3 x = mesh.seeds[size_t(k)];
-      split.push_back({k, p ? x + 1e-6 * r * p->inward : x});
+      split.push_back({k, p ? x + 1e-6 * r * p->inward : x, min_piece_volume});
     }
   split_pieces(mesh, split);
   if (times) times->assembly = seconds_since(t0);

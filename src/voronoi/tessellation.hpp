@@ -24,7 +24,9 @@ struct SeedRange {
 // Throws Error(Internal) if a cell cannot be closed by its neighbours (the sample is not maximal)
 // or two cells disagree on a shared vertex.
 // Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
+// A seed's part of the domain in several pieces gives a cell per piece of at least
+// `min_piece_volume` (voronoi/split_pieces.hpp).
 PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
-                            SeedRange built = {});
+                            SeedRange built = {}, double min_piece_volume = 0);
 
 }  // namespace froth
