@@ -17,7 +17,35 @@ constexpr int kMaxLevel = 30;
 struct Cube {
   int64_t i, j, k;
   bool boundary;  // meets the surface: its darts and children are tested one by one
+  uint32_t tris_begin = 0, tris_end = 0;  // a boundary cube's triangles, in its level's pool
 };
+
+// Is the box [lo, lo + s]^3 inside the union of the balls (c1, h1) and (c2, h2)? Each point of the
+// box must lie in the ball of smaller power; power is convex, so it suffices to check the box's
+// corners and the points where its edges cross the power plane (the vertices of the box's two
+// parts), exactly as the uniform sampler's two-ball test does for equal radii.
+bool box_in_two_balls(Vec3 lo, double s, Vec3 c1, double h1, Vec3 c2, double h2) {
+  auto power = [](Vec3 x, Vec3 c, double h) { return norm2(x - c) - h * h; };
+  Vec3 corner[8];
+  bool first[8];
+  for (int k = 0; k < 8; ++k) {
+    corner[k] = lo + s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)};
+    const double p1 = power(corner[k], c1, h1), p2 = power(corner[k], c2, h2);
+    if (std::min(p1, p2) >= 0) return false;
+    first[k] = p1 <= p2;
+  }
+  for (int k = 0; k < 8; ++k)
+    for (int bit = 1; bit < 8; bit <<= 1) {
+      const int m = k | bit;
+      if (m == k || first[k] == first[m]) continue;
+      // p1 - p2 is linear along the edge: where it vanishes, both powers must be negative.
+      const double fa = power(corner[k], c1, h1) - power(corner[k], c2, h2);
+      const double fb = power(corner[m], c1, h1) - power(corner[m], c2, h2);
+      const Vec3 x = corner[k] + (fa / (fa - fb)) * (corner[m] - corner[k]);
+      if (power(x, c1, h1) >= 0) return false;
+    }
+  return true;
+}
 
 struct Dart {
   double time;
@@ -48,8 +76,14 @@ class GradedSampler {
         for (const Cube& c : active) darts.push_back(dart(c, level, q));
         std::sort(darts.begin(), darts.end(), [](const Dart& a, const Dart& b) { return a.time < b.time; });
         stats.darts += darts.size();
-        for (const Dart& t : darts)
-          if (!covered(t.p) && (!t.boundary || d_.contains(t.p))) add_seed(t.p, h_.at(t.p));
+        // Against the seeds before the round in parallel (most darts fall in a disk), then the
+        // survivors in arrival order against the round's new seeds too: the same decisions.
+        std::vector<uint8_t> open(darts.size());
+#pragma omp parallel for schedule(dynamic, 512)
+        for (size_t k = 0; k < darts.size(); ++k)
+          open[k] = !covered(darts[k].p) && (!darts[k].boundary || d_.contains(darts[k].p));
+        for (size_t k = 0; k < darts.size(); ++k)
+          if (open[k] && !covered(darts[k].p)) add_seed(darts[k].p, h_.at(darts[k].p));
         if (q + 1 < kRoundsPerLevel)
           std::erase_if(active, [&](const Cube& c) { return cube_covered(c, level); });
       }
@@ -96,11 +130,16 @@ class GradedSampler {
     for_seeds_near(p, r_, [&](int32_t q) { in |= norm2(p - seeds_[q]) < radius_[q] * radius_[q]; });
     return in;
   }
-  // Inside one seed's disk entirely (all eight corners: the disk is convex).
+  // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from level 3
+  // on, inside the union of two (box_in_two_balls): without it the cubes along the curves where
+  // disks meet are refined to the last level.
   bool cube_covered(const Cube& c, int level) const {
     const double s = side(level);
     const Vec3 lo = corner(c, level), mid = lo + 0.5 * s * Vec3{1, 1, 1};
+    const double half_diagonal = 0.5 * std::sqrt(3.0) * s;
     bool in = false;
+    int32_t near[16];
+    int n = 0;
     for_seeds_near(mid, r_ + s, [&](int32_t q) {
       if (in) return;
       const double h2 = radius_[q] * radius_[q];
@@ -108,12 +147,19 @@ class GradedSampler {
       for (int k = 0; k < 8 && all; ++k)
         all = norm2(lo + s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)} - seeds_[q]) < h2;
       in = all;
+      if (n < 16 && norm(mid - seeds_[q]) < radius_[q] + half_diagonal) near[n++] = q;
     });
-    return in;
+    if (in || level < 3) return in;
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if (box_in_two_balls(lo, s, seeds_[near[a]], radius_[near[a]], seeds_[near[b]], radius_[near[b]])) return true;
+    return false;
   }
 
-  // Outside the domain (-1), inside (1), or meeting its surface (0).
-  int side_of(const Cube& c, int level) const {
+  // Outside the domain (-1), inside (1), or meeting its surface (0). A non-convex domain's cube
+  // that meets the surface gets its triangles in `pool` (from `candidates`, its parent's, if given).
+  int side_of(Cube& c, int level, std::vector<int32_t>& pool, const int32_t* candidates = nullptr,
+              size_t candidate_count = 0) const {
     const double s = side(level);
     const Vec3 lo = corner(c, level), hi = lo + Vec3{s, s, s};
     if (d_.convex) {
@@ -127,45 +173,112 @@ class GradedSampler {
       }
       return all_in ? 1 : 0;
     }
-    scratch_.clear();
-    d_.locator->triangles_near(lo, hi, scratch_);
-    if (!scratch_.empty()) return 0;
+    c.tris_begin = uint32_t(pool.size());
+    if (candidates) {
+      for (size_t k = 0; k < candidate_count; ++k)
+        if (d_.locator->triangle_meets_box(candidates[k], lo, hi)) pool.push_back(candidates[k]);
+    } else {
+      scratch_.clear();
+      d_.locator->triangles_near(lo, hi, scratch_);
+      pool.insert(pool.end(), scratch_.begin(), scratch_.end());
+    }
+    c.tris_end = uint32_t(pool.size());
+    if (c.tris_end > c.tris_begin) return 0;
     return d_.contains(lo + 0.5 * s * Vec3{1, 1, 1}) ? 1 : -1;
   }
 
-  std::vector<Cube> initial_cubes() const {
-    std::vector<Cube> out;
+  // The base cubes in the domain or on its surface, by blocks of 8^3 (in parallel, joined in
+  // block order): a block that meets no triangle is all inside or all outside, by one test.
+  std::vector<Cube> initial_cubes() {
+    constexpr int kBlock = 8;
     const auto& g = s_.grid;
-    for (int k = 0; k < g.nz; ++k)
-      for (int j = 0; j < g.ny; ++j)
-        for (int i = 0; i < g.nx; ++i) {
-          Cube c{i, j, k, false};
-          const Vec3 lo = corner(c, 0), hi = lo + Vec3{g.side, g.side, g.side};
-          if (hi.x < d_.bounds.lo.x || hi.y < d_.bounds.lo.y || hi.z < d_.bounds.lo.z || lo.x > d_.bounds.hi.x ||
-              lo.y > d_.bounds.hi.y || lo.z > d_.bounds.hi.z)
-            continue;
-          const int side = side_of(c, 0);
-          if (side < 0 || cube_covered(c, 0)) continue;
-          c.boundary = side == 0;
-          out.push_back(c);
-        }
-    return out;
+    const int bx = (g.nx + kBlock - 1) / kBlock, by = (g.ny + kBlock - 1) / kBlock, bz = (g.nz + kBlock - 1) / kBlock;
+    const size_t blocks = size_t(bx) * by * bz;
+    std::vector<std::vector<Cube>> out(blocks);
+    std::vector<std::vector<int32_t>> pools(blocks);
+#pragma omp parallel
+    {
+      std::vector<int32_t> near;
+#pragma omp for schedule(dynamic, 1)
+      for (size_t b = 0; b < blocks; ++b) {
+        const int i0 = int(b % bx) * kBlock, j0 = int(b / bx % by) * kBlock, k0 = int(b / (size_t(bx) * by)) * kBlock;
+        const int i1 = std::min(g.nx, i0 + kBlock), j1 = std::min(g.ny, j0 + kBlock), k1 = std::min(g.nz, k0 + kBlock);
+        const Vec3 lo = corner(Cube{i0, j0, k0, false}, 0), hi = corner(Cube{i1, j1, k1, false}, 0);
+        if (hi.x < d_.bounds.lo.x || hi.y < d_.bounds.lo.y || hi.z < d_.bounds.lo.z || lo.x > d_.bounds.hi.x ||
+            lo.y > d_.bounds.hi.y || lo.z > d_.bounds.hi.z)
+          continue;
+        near.clear();
+        if (!d_.convex) d_.locator->triangles_near(lo, hi, near);
+        // No triangle in the block: every cube on the side of the block's centre.
+        const int block_side = !d_.convex && near.empty() ? (d_.contains(0.5 * (lo + hi)) ? 1 : -1) : 0;
+        if (block_side < 0) continue;
+        for (int k = k0; k < k1; ++k)
+          for (int j = j0; j < j1; ++j)
+            for (int i = i0; i < i1; ++i) {
+              Cube c{i, j, k, false};
+              std::vector<int32_t>& pool = pools[b];
+              const size_t pool_size = pool.size();
+              const int side = block_side > 0 ? 1 : side_of(c, 0, pool, near.data(), near.size());
+              if (side < 0 || cube_covered(c, 0)) {
+                pool.resize(pool_size);
+                continue;
+              }
+              c.boundary = side == 0;
+              out[b].push_back(c);
+            }
+      }
+    }
+    std::vector<Cube> all;
+    for (size_t b = 0; b < blocks; ++b) {
+      const uint32_t shift = uint32_t(pool_.size());
+      for (Cube c : out[b]) {
+        if (c.boundary) c.tris_begin += shift, c.tris_end += shift;
+        all.push_back(c);
+      }
+      pool_.insert(pool_.end(), pools[b].begin(), pools[b].end());
+    }
+    return all;
   }
 
-  std::vector<Cube> refine(const std::vector<Cube>& active, int level) const {
-    std::vector<Cube> out;
-    for (const Cube& c : active)
-      for (int q = 0; q < 8; ++q) {
-        Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
-        if (cube_covered(child, level + 1)) continue;
-        if (c.boundary) {
-          const int side = side_of(child, level + 1);
-          if (side < 0) continue;
-          child.boundary = side == 0;
+  // The children not covered and not outside, in the parents' order (chunks in parallel, each
+  // with its own triangle pool, joined in order).
+  std::vector<Cube> refine(const std::vector<Cube>& active, int level) {
+    constexpr size_t kChunk = 4096;
+    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<Cube>> out(chunks);
+    std::vector<std::vector<int32_t>> pools(chunks);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (size_t ch = 0; ch < chunks; ++ch)
+      for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
+        const Cube& c = active[a];
+        for (int q = 0; q < 8; ++q) {
+          Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
+          if (cube_covered(child, level + 1)) continue;
+          if (c.boundary) {
+            std::vector<int32_t>& pool = pools[ch];
+            const size_t pool_size = pool.size();
+            const int side = side_of(child, level + 1, pool, pool_.data() + c.tris_begin, c.tris_end - c.tris_begin);
+            if (side < 0) {
+              pool.resize(pool_size);
+              continue;
+            }
+            child.boundary = side == 0;
+          }
+          out[ch].push_back(child);
         }
-        out.push_back(child);
       }
-    return out;
+    std::vector<Cube> all;
+    std::vector<int32_t> pool;
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      const uint32_t shift = uint32_t(pool.size());
+      for (Cube c : out[ch]) {
+        if (c.boundary) c.tris_begin += shift, c.tris_end += shift;
+        all.push_back(c);
+      }
+      pool.insert(pool.end(), pools[ch].begin(), pools[ch].end());
+    }
+    pool_.swap(pool);
+    return all;
   }
 
   void add_seed(Vec3 p, double radius) {
@@ -225,6 +338,7 @@ class GradedSampler {
   // The seeds of each base cube as a list: its last seed, and each seed's previous one there.
   std::vector<int32_t> head_, next_;
   mutable std::vector<int32_t> scratch_;
+  std::vector<int32_t> pool_;  // the active boundary cubes' triangles
 };
 
 }  // namespace
