@@ -84,8 +84,15 @@ class GradedSampler {
           open[k] = !covered(darts[k].p) && (!darts[k].boundary || d_.contains(darts[k].p));
         for (size_t k = 0; k < darts.size(); ++k)
           if (open[k] && !covered(darts[k].p)) add_seed(darts[k].p, h_.at(darts[k].p));
-        if (q + 1 < kRoundsPerLevel)
-          std::erase_if(active, [&](const Cube& c) { return cube_covered(c, level); });
+        if (q + 1 < kRoundsPerLevel) {
+          std::vector<uint8_t> done(active.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+          for (size_t a = 0; a < active.size(); ++a) done[a] = cube_covered(active[a], level);
+          size_t kept = 0;
+          for (size_t a = 0; a < active.size(); ++a)
+            if (!done[a]) active[kept++] = active[a];
+          active.resize(kept);
+        }
       }
       stats.accepted = seeds_.size() - seeds0;
       s_.stats.darts += stats.darts;
