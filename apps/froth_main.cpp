@@ -264,6 +264,8 @@ struct EnsembleArgs {
   bool no_quality = false;
   double feature_angle = froth::kDefaultFeatureAngle;
   bool repair = false;
+  bool grade = false;
+  double min_r = 0, max_grading = 0.2;
 };
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
@@ -276,6 +278,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.members = a.members;
   opt.weld = weld_tolerance(a.weld, a.r);
   opt.quality = !a.no_quality;
+  opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
   opt.threads = a.threads;
   opt.dir = a.dir;
   opt.command = command;
@@ -425,6 +428,9 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
   ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
   ensemble->add_flag("--repair", ea.repair, "reorient inconsistently wound shells (reported)");
+  ensemble->add_flag("--grade", ea.grade, "grade the radius to thin walls and gaps, as for froth mesh (experimental)");
+  ensemble->add_option("--min-r", ea.min_r, "with --grade: the smallest radius (default r/4)")->check(CLI::PositiveNumber);
+  ensemble->add_option("--max-grading", ea.max_grading, "with --grade: the slope of h, in (0, 0.25) (default 0.2)");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
   quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();

@@ -20,6 +20,8 @@ struct EnsembleOptions {
   size_t members = 0;
   double weld = 0;         // absolute tolerance, as for MeshOptions
   bool quality = true;
+  bool grade = false;       // as MeshOptions: a radius graded to thin walls and gaps
+  double min_r = 0, grading = 0.2;
   int threads = 0;
   std::filesystem::path dir;
   std::string command;     // the exact command line, for the record

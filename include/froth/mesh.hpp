@@ -157,6 +157,8 @@ struct RunReport {
   uint64_t seed = 0;
   double weld = 0;
   int threads = 0;
+  bool grade = false;              // the options that shape h (MeshOptions)
+  double min_r = 0, grading = 0;
   FeatureSummary features;  // of the input surface
   FeatureSizeReport feature_size;  // thin walls and narrow gaps, up to r (2r when grading)
   struct Sizing {

@@ -55,7 +55,10 @@ bool member_done(const EnsembleOptions& opt, size_t k) {
     const Json& m = j.at("member");
     if (j.at("froth_version") != FROTH_VERSION || m.at("seed").get<uint64_t>() != member_seed(opt.seed, k) ||
         j.at("input").at("r").get<double>() != opt.r || j.at("input").at("weld").get<double>() != opt.weld ||
-        m.at("input").get<std::string>() != opt.input || m.at("quality").get<bool>() != opt.quality)
+        m.at("input").get<std::string>() != opt.input || m.at("quality").get<bool>() != opt.quality ||
+        j.at("input").at("grade").get<bool>() != opt.grade ||
+        (opt.grade && (j.at("input").at("min_r").get<double>() != opt.min_r ||
+                       j.at("input").at("max_grading").get<double>() != opt.grading)))
       return false;
     const auto [size, crc] = crc_of(opt.dir / member_file(k));
     return size == m.at("bytes").get<int64_t>() && crc == m.at("crc32").get<uint32_t>();
@@ -112,6 +115,7 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
     mo.weld = opt.weld;
     mo.threads = opt.threads;
     mo.quality = opt.quality;
+    mo.grade = opt.grade, mo.min_r = opt.min_r, mo.grading = opt.grading;
     RunReport run;
     PolyMesh mesh = generate_mesh(domain, mo, &run);
     const auto t0 = std::chrono::steady_clock::now();
@@ -172,7 +176,8 @@ void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& 
   out["command"] = opt.command;
   out["froth_version"] = FROTH_VERSION;
   out["input"] = {{"domain", opt.input}, {"r", opt.r}, {"seed", opt.seed}, {"members", opt.members},
-                  {"weld", opt.weld}, {"quality", opt.quality}};
+                  {"weld", opt.weld}, {"quality", opt.quality}, {"grade", opt.grade}};
+  if (opt.grade) out["input"]["min_r"] = opt.min_r, out["input"]["max_grading"] = opt.grading;
   out["member_seeds"] = "Philox4x64-10 keyed by (seed, 2) at counter (k, 0, 0, 0), first word";
   out["this_run"] = {{"built", progress.built}, {"already_complete", progress.resumed}};
   out["members"] = members;

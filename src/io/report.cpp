@@ -22,6 +22,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"convex_edges", f.convex_edges},   {"reflex_edges", f.reflex_edges},
                    {"curves", f.curves},               {"convex_curves", f.convex_curves},
                    {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};
+  j["input"]["grade"] = run.grade;
+  if (run.grade) j["input"]["min_r"] = run.min_r, j["input"]["max_grading"] = run.grading;
   j["input"]["convex"] = run.input.convex;
   j["input"]["triangles"] = run.input.triangles;
   j["input"]["shells"] = run.input.shells;

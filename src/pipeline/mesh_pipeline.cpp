@@ -78,6 +78,7 @@ void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run) {
   run.r = opt.r;
   run.seed = opt.seed;
   run.weld = opt.weld;
+  run.grade = opt.grade, run.min_r = opt.min_r, run.grading = opt.grading;
   run.threads = omp_get_max_threads();
   run.domain_volume = domain.volume;
   run.input = {domain.convex, domain.surface.triangles.size(), domain.shells, domain.cavities,

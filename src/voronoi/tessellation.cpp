@@ -166,8 +166,7 @@ class CellBuilder {
     return cut_by_planes_ ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
   }
 
-  // What went wrong with a cell: r too large for the domain's features here is the user's to
-  // change (Usage); anything else is froth's (Internal).
+  // What went wrong with a cell (froth's fault on valid input: Internal).
   struct CellError {
     CellError() = default;
     CellError(std::string t, ErrorKind k = ErrorKind::Internal) : text(std::move(t)), kind(k) {}

@@ -244,6 +244,14 @@ if p.returncode == 0:
     infinite = sum(c["aspect"].get("not_finite", 0) for c in member["quality"]["cells"].values())
     check(infinite > 0, "tray ensemble: no cell with an infinite aspect ratio counted")
     check(len(json.load(open(os.path.join(ens, "ensemble.json")))["members"]) == 2, "tray ensemble: members")
+# A graded ensemble resumes as a uniform one does, and its members record the grading: the same
+# folder without --grade builds every member again.
+ens = os.path.join(tmp, "graded_ens")
+runs = [froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens, *g)
+        for g in (["--grade"], ["--grade"], [])]
+check(all(p.returncode == 0 for p in runs), f"graded ensemble: {[p.returncode for p in runs]} {runs[0].stderr}")
+check("2 built" in runs[0].stdout and "0 built" in runs[1].stdout and "2 built" in runs[2].stdout,
+      f"graded ensemble resumes: {[p.stdout for p in runs]}")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", "/nonexistent-dir/x.vtu")
 check(p.returncode == 4, f"unwritable output: exit code {p.returncode}")
 # froth quality: the same report from froth's VTU as the run report; the same again from VTUs that
