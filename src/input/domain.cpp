@@ -136,6 +136,25 @@ Domain domain_from_surface(const TriangleSurface& input, const std::string& name
     across[uses[0].tri].push_back({uses[1].tri, same});
     across[uses[1].tri].push_back({uses[0].tri, same});
   }
+  // Each vertex's triangles must form one fan around it (joined across the edges at the vertex):
+  // two solids touching at a point are closed and edge-manifold but bound no solid there. The
+  // corners (triangle, vertex) of one fan are joined across its edges.
+  {
+    UnionFind fans(3 * T.size());
+    auto corner = [&](int32_t t, int32_t v) { return 3 * t + int32_t(T[t][0] == v ? 0 : T[t][1] == v ? 1 : 2); };
+    for (const auto& [edge, uses] : edges)
+      for (int32_t v : {edge.first, edge.second}) fans.unite(corner(uses[0].tri, v), corner(uses[1].tri, v));
+    std::vector<int32_t> first_fan(V.size(), -1);
+    for (size_t c = 0; c < 3 * T.size(); ++c) {
+      const int32_t v = T[c / 3][c % 3], fan = fans.find(int32_t(c));
+      if (first_fan[v] < 0) first_fan[v] = fan;
+      else if (first_fan[v] != fan)
+        fail(ErrorKind::InvalidInput,
+             fmt::format("{}: surface is not manifold at vertex {} {}: its triangles form separate fans (parts that "
+                         "touch at a single point); move them apart or join them along a face",
+                         name, v, fmt_point(V[v])));
+    }
+  }
 
   // Shells: edge-connected components, each wound consistently (flipping triangles if --repair).
   std::vector<int32_t> component(T.size(), -1);

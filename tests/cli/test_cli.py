@@ -12,6 +12,7 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 FROTH, MODELS = sys.argv[1], sys.argv[2]
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")
 failures = []
 passed = 0
 
@@ -192,6 +193,11 @@ for args, code, words in [
     ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "--repair"),
     ([os.path.join(MODELS, "rook.stl"), "-r", "1"], 3, "shared by 4 triangles"),
     ([os.path.join(MODELS, "joined_tetrahedra.obj"), "-r", "0.1"], 3, "not manifold"),
+    # The two broken kinds of real parts (tests/data/README.md): a non-manifold vertex, an open
+    # surface with crossing triangles, folded faces.
+    ([os.path.join(DATA, "touching_tetrahedra.off"), "-r", "0.3"], 3, "not manifold at vertex 0"),
+    ([os.path.join(DATA, "open_box_crossed.off"), "-r", "0.3"], 3, "not closed"),
+    ([os.path.join(DATA, "folded_box.off"), "-r", "0.3"], 3, "intersects itself"),
     (["/nonexistent.stl", "-r", "0.1"], 4, "cannot open"),
     (["box:0,0,0,1,1", "-r", "0.1"], 2, "six finite numbers"),
     (["box:0,0,0,1,1,1", "-r", "-1"], 2, "r must be positive"),
