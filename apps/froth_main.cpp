@@ -299,15 +299,22 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   if (code != 0) return code;
   done.built = world.sum(done.built);
   done.resumed = world.sum(done.resumed);
+  done.failed = world.sum(done.failed);
   if (world.rank != 0) return 0;
-  froth::write_ensemble_summary(opt, done);
+  const std::vector<int> failed = froth::write_ensemble_summary(opt, done);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}: {} built, {} already complete{}; "
              "{:.3f} s ({:.2f} members per minute). Wrote {}/ensemble.pvd and {}/ensemble.json.\n",
              a.members, a.input, a.r, a.seed, a.dir, done.built, done.resumed,
              world.size > 1 ? fmt::format(" on {} ranks", world.size) : "", seconds,
              done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, a.dir, a.dir);
-  return 0;
+  if (failed.empty()) return 0;
+  // The other members are complete; the run fails with the first failed member's code.
+  fmt::print(stderr, "froth: error: {} of {} members could not be meshed (ensemble.json lists them under "
+                     "failed_members, each DIR/member_K.failed.json says why); running the command again retries "
+                     "them\n",
+             failed.size(), a.members);
+  return failed.front();
 }
 
 struct QualityArgs {

@@ -36,12 +36,15 @@ std::string member_file(size_t k);  // member_00000.vtu, ...
 
 struct EnsembleProgress {
   size_t built = 0, resumed = 0;
+  size_t failed = 0;  // members that could not be meshed (DIR/member_K.failed.json says why)
 };
 
 // Builds this rank's members that are not already complete and valid in opt.dir.
 EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt);
 
-// Writes DIR/ensemble.pvd and DIR/ensemble.json from the members' sidecars (all must exist).
-void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress);
+// Writes DIR/ensemble.pvd and DIR/ensemble.json from the members' sidecars (each must exist, or
+// its member's failure note: failed members are listed, not summarised). Returns the failure
+// notes' exit codes, in member order.
+std::vector<int> write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress);
 
 }  // namespace froth

@@ -28,6 +28,11 @@ std::filesystem::path sidecar(const EnsembleOptions& opt, size_t k) {
   return opt.dir / fmt::format("member_{:05d}.json", k);
 }
 
+// A member that could not be meshed: why, for the summary (any rank's) and the next run.
+std::filesystem::path failure_note(const EnsembleOptions& opt, size_t k) {
+  return opt.dir / fmt::format("member_{:05d}.failed.json", k);
+}
+
 // CRC-32 and size of a file, or size -1 if it cannot be read.
 std::pair<int64_t, uint32_t> crc_of(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -117,7 +122,21 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
     mo.quality = opt.quality;
     mo.grade = opt.grade, mo.min_r = opt.min_r, mo.grading = opt.grading;
     RunReport run;
-    PolyMesh mesh = generate_mesh(domain, mo, &run);
+    PolyMesh mesh;
+    // One member that cannot be meshed (froth's fault, or an r its sample cannot use) does not
+    // stop the others: it is noted and reported, and the next run tries it again. I/O errors
+    // still stop the run.
+    try {
+      mesh = generate_mesh(domain, mo, &run);
+    } catch (const Error& e) {
+      if (e.kind() == ErrorKind::Io) throw;
+      const Json note = {{"index", k}, {"seed", mo.seed}, {"exit_code", e.exit_code()}, {"error", e.what()}};
+      write_atomically(failure_note(opt, k), [&](std::ostream& out) { out << note.dump(2) << "\n"; });
+      ++done.failed;
+      continue;
+    }
+    std::error_code ec;
+    std::filesystem::remove(failure_note(opt, k), ec);
     const auto t0 = std::chrono::steady_clock::now();
     const std::filesystem::path file = opt.dir / member_file(k);
     write_vtu(mesh, run, file);
@@ -135,12 +154,22 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
   return done;
 }
 
-void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress) {
+std::vector<int> write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress) {
+  std::vector<int> codes;
+  std::vector<char> missing(opt.members, 0);
   Json members = Json::array();
   Spread cells, mean_volume, min_aspect, max_aspect, seconds;
+  Json failed = Json::array();
   for (size_t k = 0; k < opt.members; ++k) {
     std::ifstream in(sidecar(opt, k));
-    if (!in) fail(ErrorKind::Io, fmt::format("{}: missing: member {} was not built", sidecar(opt, k).string(), k));
+    if (!in) {
+      std::ifstream why(failure_note(opt, k));
+      if (!why) fail(ErrorKind::Io, fmt::format("{}: missing: member {} was not built", sidecar(opt, k).string(), k));
+      failed.push_back(Json::parse(why));
+      codes.push_back(failed.back().value("exit_code", int(ErrorKind::Internal)));
+      missing[k] = 1;
+      continue;
+    }
     const Json j = Json::parse(in);
     const double n = j["mesh"]["cells"].get<double>();
     Json m = {{"index", k},
@@ -179,7 +208,8 @@ void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& 
                   {"weld", opt.weld}, {"quality", opt.quality}, {"grade", opt.grade}};
   if (opt.grade) out["input"]["min_r"] = opt.min_r, out["input"]["max_grading"] = opt.grading;
   out["member_seeds"] = "Philox4x64-10 keyed by (seed, 2) at counter (k, 0, 0, 0), first word";
-  out["this_run"] = {{"built", progress.built}, {"already_complete", progress.resumed}};
+  out["this_run"] = {{"built", progress.built}, {"already_complete", progress.resumed}, {"failed", failed.size()}};
+  out["failed_members"] = failed;
   out["members"] = members;
   out["spread"] = {{"cells", cells.json()},
                    {"mean_cell_volume", mean_volume.json()},
@@ -192,9 +222,11 @@ void write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& 
     o << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
          "<Collection>\n";
     for (size_t k = 0; k < opt.members; ++k)
-      o << fmt::format("<DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", k, member_file(k));
+      if (!missing[k])
+        o << fmt::format("<DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n", k, member_file(k));
     o << "</Collection>\n</VTKFile>\n";
   });
+  return codes;
 }
 
 }  // namespace froth

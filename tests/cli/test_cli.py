@@ -250,6 +250,18 @@ if p.returncode == 0:
     infinite = sum(c["aspect"].get("not_finite", 0) for c in member["quality"]["cells"].values())
     check(infinite > 0, "tray ensemble: no cell with an infinite aspect ratio counted")
     check(len(json.load(open(os.path.join(ens, "ensemble.json")))["members"]) == 2, "tray ensemble: members")
+# A member that cannot be meshed does not stop the ensemble: each is listed with why, the summary
+# is written, and the run ends with that member's code (here every member's r is too small).
+ens = os.path.join(tmp, "failing_ens")
+p = froth("ensemble", "box:0,0,0,1,1,1", "-r", "1e-4", "-n", "2", "--seed", "1", "-o", ens)
+check(p.returncode == 2 and "2 of 2 members could not be meshed" in p.stderr, f"failing ensemble: {p.returncode} {p.stderr}")
+if os.path.exists(os.path.join(ens, "ensemble.json")):
+    failed = json.load(open(os.path.join(ens, "ensemble.json")))["failed_members"]
+    check(len(failed) == 2 and all("too small" in f["error"] and f["exit_code"] == 2 for f in failed),
+          f"failing ensemble: failed_members {failed}")
+else:
+    check(False, "failing ensemble: no ensemble.json")
+
 # A graded ensemble resumes as a uniform one does, and its members record the grading: the same
 # folder without --grade builds every member again.
 ens = os.path.join(tmp, "graded_ens")
@@ -364,7 +376,7 @@ args = ["box:0,0,0,1,1,1", "-r", "0.08", "-n", "4", "--seed", "11"]
 p = froth("ensemble", *args, "-o", ens)
 check(p.returncode == 0, f"ensemble: {p.stderr}")
 summary = json.load(open(os.path.join(ens, "ensemble.json")))
-check(summary["this_run"] == {"built": 4, "already_complete": 0}, f"ensemble: {summary['this_run']}")
+check(summary["this_run"] == {"built": 4, "already_complete": 0, "failed": 0}, f"ensemble: {summary['this_run']}")
 check("ensemble" in summary["command"] and summary["input"]["members"] == 4, "ensemble.json: command and input")
 seeds = [m["seed"] for m in summary["members"]]
 check(len(set(seeds)) == 4, "ensemble: member seeds are not distinct")
@@ -384,14 +396,14 @@ p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.08", "--seed", str(seeds[2]), "--t
 check(p.returncode == 0 and open(alone, "rb").read() == open(os.path.join(ens, "member_00002.vtu"), "rb").read(),
       "member 2 regenerated alone with froth mesh is not byte-identical")
 p = froth("ensemble", *args, "-o", ens)
-check(json.load(open(os.path.join(ens, "ensemble.json")))["this_run"] == {"built": 0, "already_complete": 4},
+check(json.load(open(os.path.join(ens, "ensemble.json")))["this_run"] == {"built": 0, "already_complete": 4, "failed": 0},
       "ensemble re-run did not skip the complete members")
 # Damage a member: it is rebuilt, byte for byte.
 member1 = os.path.join(ens, "member_00001.vtu")
 good = open(member1, "rb").read()
 open(member1, "wb").write(good[: len(good) // 2])
 p = froth("ensemble", *args, "-o", ens)
-check(json.load(open(os.path.join(ens, "ensemble.json")))["this_run"] == {"built": 1, "already_complete": 3},
+check(json.load(open(os.path.join(ens, "ensemble.json")))["this_run"] == {"built": 1, "already_complete": 3, "failed": 0},
       "ensemble did not rebuild the damaged member")
 check(open(member1, "rb").read() == good, "the rebuilt member differs")
 # Kill a run after its first members, then resume: the same bytes as the uninterrupted run.
