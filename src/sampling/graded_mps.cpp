@@ -235,16 +235,8 @@ class GradedSampler {
             }
       }
     }
-    std::vector<Cube> all;
-    for (size_t b = 0; b < blocks; ++b) {
-      const uint32_t shift = uint32_t(pool_.size());
-      for (Cube c : out[b]) {
-        if (c.boundary) c.tris_begin += shift, c.tris_end += shift;
-        all.push_back(c);
-      }
-      pool_.insert(pool_.end(), pools[b].begin(), pools[b].end());
-    }
-    return all;
+    pool_.clear();
+    return join(out, pools, pool_);
   }
 
   // The children not covered and not outside, in the parents' order (chunks in parallel, each
@@ -274,9 +266,17 @@ class GradedSampler {
           out[ch].push_back(child);
         }
       }
-    std::vector<Cube> all;
     std::vector<int32_t> pool;
-    for (size_t ch = 0; ch < chunks; ++ch) {
+    std::vector<Cube> all = join(out, pools, pool);
+    pool_.swap(pool);
+    return all;
+  }
+
+  // The cubes and triangle pools of parallel chunks as one list and one pool, in chunk order.
+  static std::vector<Cube> join(const std::vector<std::vector<Cube>>& out, const std::vector<std::vector<int32_t>>& pools,
+                                std::vector<int32_t>& pool) {
+    std::vector<Cube> all;
+    for (size_t ch = 0; ch < out.size(); ++ch) {
       const uint32_t shift = uint32_t(pool.size());
       for (Cube c : out[ch]) {
         if (c.boundary) c.tris_begin += shift, c.tris_end += shift;
@@ -284,7 +284,6 @@ class GradedSampler {
       }
       pool.insert(pool.end(), pools[ch].begin(), pools[ch].end());
     }
-    pool_.swap(pool);
     return all;
   }
 
