@@ -1,7 +1,7 @@
 // The surface's triangles bucketed in a uniform grid of cubes, for the clipper's question "which
 // triangles meet this cell's box?", asked once per cell near the boundary. The cells' boxes are
 // about the size of a grid cube, so a query reads at most eight buckets; the AABB tree it
-// replaces there cost 4 us per cell on the tube (round.stl), with its long, thin triangles.
+// replaces there was slow on long, thin triangles (the tube, round.stl).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -153,9 +153,8 @@ MeshCheck check_mesh(const PolyMesh& m) {
       // The faces of the later neighbours of the cell two ahead asked for now: they lie up to a
       // few layers of cells away in memory (cells are in grid order), out of the core's cache,
       // and the reads through them (faces, then vertices) are dependent loads the core cannot
-      // overlap. Validation at 1e6 cells 0.937 -> 0.853 s (median of 5; four ahead 0.871 s,
-      // eight 0.924 s). (Written inline: GCC finds a function that only prefetches pure and
-      // drops the calls.)
+      // overlap; two ahead measured best (commit 3143e00). (Written inline: GCC finds a function
+      // that only prefetches pure and drops the calls.)
       if (const size_t a = c + 2; a < m.cell_count()) {
         for (int64_t f = m.cell_face_begin[a]; f < m.cell_face_begin[a + 1]; ++f) {
           const int32_t g = m.face_generator[f];

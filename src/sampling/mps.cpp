@@ -84,9 +84,8 @@ struct Candidate {
 // darts in rounds that double: the first round's candidates conflict only with each other, and
 // the cost of deciding them in arrival order grows with the square of their density, while a
 // later round's darts mostly meet a seed and stop there, so the acceptance falls as the rounds
-// grow. Each round walks every base cube. At 1e6 seeds, against six rounds of 0.125: sampling
-// 4.30 s against 4.54 s (mean of 4 interleaved pairs); 0.05 to 0.08 doubling, in four or five
-// rounds, measured the same within noise.
+// grow. Each round walks every base cube, so fewer, doubling rounds beat six equal ones
+// (commit 2ffdb9f has the figures).
 constexpr std::array<double, 4> kDartsPerCubeLevel0Rounds = {0.0625, 0.125, 0.25, 0.5};
 constexpr double kDartsPerCubePerRound = 0.5;
 constexpr int kRoundsPerLevel = 1;
@@ -94,18 +93,16 @@ constexpr int kRoundsPerLevel = 1;
 // three-ball test (covered()). Above it, most such children hold a gap or need more balls, and
 // the test (half of a level's refinement time) costs more than refining the few it clears: their
 // children mostly fit in one ball. Below it, cubes straddling the seam of two balls would double
-// at every level. Measured at 1e6 seeds: sampling 10.4 s testing from level 0, 7.6 s from
-// levels 4 to 8 in an early build; with today's cheaper levels (and the doubling rounds above),
-// min of 5 interleaved: 4.03 s from level 5, 3.89 s from 6, 3.81 s from 7 (from 8 in another set:
-// as 6 and 7). Levels are relative to r, so the choice does not depend on scale. Nor does the
+// at every level; level 7 measured best (commit 7d3a47c). Levels are relative to r, so the
+// choice does not depend on scale. Nor does the
 // sample: a child's darts depend only on its place and level, and those thrown into covered
 // space are all rejected, so keeping a covered child changes the work, not the seeds.
 constexpr int kFirstExactCoverageLevel = 7;
 // The first refinement level that throws the next level's darts itself, into the children it
 // keeps, testing them against the seeds it gathered for them (refine()). Where the marks stand in
 // for those seeds (levels 0 and 1 of most domains) it has none; where it has them at those levels
-// (a domain that fills little of its grid), throwing there gained nothing measurable (step.off
-// sampling 0.672 s against 0.664 s from level 2, 0.711 s before any).
+// (a domain that fills little of its grid), throwing there gained nothing measurable (commit
+// 4e3c950).
 constexpr int kFirstFusedDartLevel = 2;
 
 // Inverse CDF of the Poisson law with mean `mean`: the CDF tabulated once (it is summed term by
@@ -1133,8 +1130,8 @@ class Sampler {
     // The pass in which an entry was last found blocked (0: none). A blocked entry reached again
     // in that pass through another's recursion answers at once: otherwise a cluster of k
     // mutually conflicting candidates whose earliest waits for a neighbour rank's decision is
-    // walked along every descending chain, some 2^k times, up to the depth bound (a partitioned
-    // run at 2e5 cells spent 3.7 s in one round so). The answer is only postponed to a later
+    // walked along every descending chain, some 2^k times, up to the depth bound (commit
+    // 811beed). The answer is only postponed to a later
     // pass, and the outcome, greedy in arrival order, does not depend on when it is decided.
     std::vector<std::atomic<uint32_t>> blocked_in_pass(n);
     for (auto& b : blocked_in_pass) b.store(0, std::memory_order_relaxed);
