@@ -83,10 +83,14 @@ std::string details_sentence(const froth::RunReport& run) {
                          what, run.feature_size.cap > run.r ? "2" : "", 100 * m.area_below_cap, m.min, m.min / run.r,
                          m.where.x, m.where.y, m.where.z);
   if (run.sizing.graded)
-    out += fmt::format(" Sizing graded to the walls and gaps: h from {:.3g} (= {:.3g} r, floor --min-r {:.3g}) to r, slope "
-                       "at most {:.2g}; h < r on {:.3g}% of the bounding box.",
-                       run.sizing.smallest, run.sizing.smallest / run.r, run.sizing.min_r, run.sizing.lipschitz,
-                       100 * run.sizing.graded_fraction);
+    out += fmt::format(" Sizing graded to the walls and gaps: h from {:.3g} (= {:.3g} r, floor --min-r {:.3g}{}) to r, "
+                       "slope at most {:.2g}; h < r on {:.3g}% of the volume, about {:.3g} times a uniform mesh's cells.",
+                       run.sizing.smallest, run.sizing.smallest / run.r, run.sizing.min_r,
+                       run.sizing.floor_raised ? ", raised from r/4 to keep the cells within budget" : "",
+                       run.sizing.lipschitz, 100 * run.sizing.graded_fraction, run.sizing.cell_ratio);
+  else if (run.sizing.floor_raised)
+    out += " Sizing not graded: resolving the walls and gaps would cost more than the default budget of cells; give "
+           "--min-r to grade anyway.";
   if (run.split_seeds > 0)
     out += fmt::format(" {} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces became "
                        "{} more cells (cell data piece > 0).",

@@ -101,7 +101,7 @@ struct MeshOptions {
   bool quality = false;      // measure every cell (mesh.quality, report.quality)
   std::function<void(const std::string& stage)> progress;  // told when a stage starts
   // A radius graded to the input's thin walls and gaps (sampling/sizing.hpp): h(x) <= r, at
-  // least min_r (0: r/4), with slope `grading` along the sizing grid. Off: h = r everywhere.
+  // least min_r (0: the default, r/4 or above: sampling/sizing.hpp), with slope `grading` along the sizing grid. Off: h = r everywhere.
   bool grade = false;
   double min_r = 0, grading = 0.2;
 };
@@ -164,7 +164,11 @@ struct RunReport {
   struct Sizing {
     bool graded = false;  // h < r somewhere: the graded sampler ran
     double min_r = 0, grading = 0, lipschitz = 0, smallest = 0;
-    double graded_fraction = 0, extra_cell_fraction = 0;  // of the bounding box, by sizing node
+    // Estimated by sizing node: the fraction of the domain's volume where h < r, and the cells
+    // over a uniform mesh's; floor_raised: the default floor went above r/4 to keep that ratio
+    // within the budget (sampling/sizing.hpp), up to r, where nothing is graded.
+    double graded_fraction = 0, cell_ratio = 1;
+    bool floor_raised = false;
   } sizing;
   struct Input {
     bool convex = true;

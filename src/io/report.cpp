@@ -68,13 +68,15 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                          {"thickness", measure(run.feature_size.thickness)},
                          {"gap", measure(run.feature_size.gap)}};
   }
-  if (run.sizing.graded)
-    j["sizing"] = {{"min_r", run.sizing.min_r},
+  if (run.sizing.graded || run.sizing.floor_raised)
+    j["sizing"] = {{"graded", run.sizing.graded},
+                   {"min_r", run.sizing.min_r},
                    {"grading", run.sizing.grading},
                    {"lipschitz_bound", run.sizing.lipschitz},
                    {"smallest_h", run.sizing.smallest},
-                   {"box_fraction_graded", run.sizing.graded_fraction},
-                   {"extra_cells_over_box_uniform", run.sizing.extra_cell_fraction}};
+                   {"floor_raised", run.sizing.floor_raised},
+                   {"volume_fraction_graded", run.sizing.graded_fraction},
+                   {"estimated_cell_ratio", run.sizing.cell_ratio}};
   j["star_shaped"] = {{"cells_not_star_shaped", run.not_star_shaped}, {"worst_face_plane_beyond_seed_over_r", run.star_violation},
                         {"cells_without_kernel", run.without_kernel}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();

@@ -103,6 +103,16 @@ std::string end_offsets(AppendedBlocks& w, size_t cells, Length length, const ch
       index_type<Index>(), name);
 }
 
+// The options that shaped h (--grade): the floor and slope in effect, when grading was asked for.
+std::string grading_field_data(const RunReport& run) {
+  if (!run.grade) return "";
+  const double floor = run.sizing.graded ? run.sizing.min_r : run.r;
+  return fmt::format("<DataArray type=\"Int32\" Name=\"grade\" NumberOfTuples=\"1\" format=\"ascii\">1</DataArray>\n"
+                     "<DataArray type=\"Float64\" Name=\"min_r\" NumberOfTuples=\"1\" format=\"ascii\">{:.17g}</DataArray>\n"
+                     "<DataArray type=\"Float64\" Name=\"max_grading\" NumberOfTuples=\"1\" format=\"ascii\">{:.17g}</DataArray>\n",
+                     floor, run.grading);
+}
+
 std::string version_numbers(std::string v) {
   std::replace(v.begin(), v.end(), '.', ' ');
   return v;
@@ -208,6 +218,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       // Numeric (major, minor, patch): meshio cannot read VTK string arrays.
       << fmt::format("<DataArray type=\"Int32\" Name=\"version\" NumberOfTuples=\"3\" format=\"ascii\">{}</DataArray>\n",
                      version_numbers(FROTH_VERSION))
+      << grading_field_data(run)
       << "</FieldData>\n"
       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.points.size(), n)
       << "<Points>\n" << raw_array(w, m.points, "Float64", "Points", 3) << "</Points>\n<Cells>\n";

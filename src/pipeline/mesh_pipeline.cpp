@@ -117,8 +117,15 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
     fail(ErrorKind::Usage, fmt::format("--min-r must be in (0, r], got {}", opt.min_r));
   SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading});
   run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
-                h.extra_cell_fraction};
+                h.cell_ratio,         h.floor_raised};
   return h;
+}
+
+// Cell data radius: h at each seed (left empty, r for all, when nothing is graded).
+void set_radii(PolyMesh& mesh, const SizingField& sizing) {
+  if (sizing.is_uniform()) return;
+  mesh.radii.resize(mesh.cell_count());
+  for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
 }
 
 // A piece of a cell smaller than a cube of 4 weld tolerances could collapse under welding: it
@@ -248,10 +255,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   progress("cells");
   TessellationTimes tt;
   PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt));
-  if (!sizing.is_uniform()) {
-    mesh.radii.resize(mesh.cell_count());
-    for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
-  }
+  set_radii(mesh, sizing);
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
@@ -272,26 +276,33 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PartitionReport& part = partition ? *partition : local_part;
   start_run(domain, opt, run);
   Stopwatch total, watch;
-  if (opt.grade) fail(ErrorKind::Usage, "--partition does not take --grade yet: mesh a graded domain in one process");
-  measure_features(domain, opt, run, watch);
+  const FeatureSize fs = measure_features(domain, opt, run, watch);
+  const SizingField sizing = sizing_field(domain, fs, opt, run);
   part.rank = comm.rank();
   part.ranks = comm.size();
   part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
 
   if (opt.progress) opt.progress("sampling");
-  SamplingPartition sp{part.slab, &comm};
   CellWindow w;
-  {
+  if (sizing.is_uniform()) {
+    SamplingPartition sp{part.slab, &comm};
     Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp);
     part.exchanges = sp.exchanges;
     w = exchange_cell_halo(sampled, part.slab, comm);
+    run.sampling = w.sample.stats;
+    run.sampling.darts = comm.sum(run.sampling.darts);
+    run.sampling.uncovered_cubes = comm.sum(run.sampling.uncovered_cubes);
+  } else {
+    // The graded sampler has no slab schedule yet: every rank draws the whole sample (the
+    // serial one, a pure function of its inputs) and keeps its slab's window of it, so the
+    // cells still equal the serial mesh's; only the cells' work is divided.
+    const Sample sampled = sample_graded_poisson_disk(domain, sizing, opt.seed);
+    w = exchange_cell_halo(sampled, part.slab, comm);
+    run.sampling = sampled.stats;
   }
   run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
-  run.sampling = w.sample.stats;
   // Counts over all ranks (protection seeds are computed whole on every rank).
   run.sampling.seeds = w.total_seeds;
-  run.sampling.darts = comm.sum(run.sampling.darts);
-  run.sampling.uncovered_cubes = comm.sum(run.sampling.uncovered_cubes);
   release_freed_memory();
   check_sample(run.sampling.seeds, run.sampling.uncovered_cubes, opt.r);
   part.first_seed = w.first_global + w.owned.begin;
@@ -332,6 +343,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
       welded.cells.push_back(welded_ring.cells[k] - own_begin);
       welded.before.push_back(welded_ring.before[k]);
     }
+  set_radii(mesh, sizing);
   finish_mesh(domain, mesh, opt, run, welded, watch);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();

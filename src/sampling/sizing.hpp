@@ -9,6 +9,10 @@
 // grid of spacing r/4 (a shortest-path sweep over the 26 node neighbours, edges weighted L times
 // their length), and between nodes the trilinear interpolation of the node values. Interpolation
 // keeps every edge of a grid cell within slope L, so |grad h| <= sqrt(3) L: the field's grading.
+//
+// The default floor is the smallest in [r/4, r] whose estimated cell count, the integral of
+// (r/h)^3 over the domain (cells go as h^-3), stays within kDefaultCellBudget times a uniform
+// mesh's: a thin feature is resolved as far as that budget allows, never at any price.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -18,8 +22,11 @@
 
 namespace froth {
 
+// The default floor's budget: at most this many times the cells of a uniform mesh at r.
+inline constexpr double kDefaultCellBudget = 3;
+
 struct SizingOptions {
-  double min_r = 0;    // the floor; 0: r / 4
+  double min_r = 0;    // the floor; 0: the default (see above)
   double grading = 0.2;  // L, the slope along grid edges (the field's Lipschitz bound is sqrt(3) L)
 };
 
@@ -35,11 +42,14 @@ class SizingField {
   double grading() const { return grading_; }
   double lipschitz() const;  // the bound on |grad h|
   double smallest() const { return smallest_; }  // the least node value (r if uniform)
-  // The fraction of the domain's bounding box where h < r, and the integral of (r / h)^3 over it
-  // less its volume, as a fraction of the box (the extra cells, relative to a uniform mesh's).
-  double graded_fraction = 0, extra_cell_fraction = 0;
+  // Estimated from the nodes inside the domain: the fraction of its volume where h < r, and the
+  // cell count relative to a uniform mesh's (the integral of (r/h)^3 over the domain, over its
+  // volume). floor_raised: the default floor went above r/4 to keep that ratio within budget.
+  double graded_fraction = 0, cell_ratio = 1;
+  bool floor_raised = false;
 
  private:
+  friend struct SizingBuilder;  // sizing.cpp: the sweep and the cell estimate
   double r_ = 0, min_r_ = 0, grading_ = 0, smallest_ = 0, spacing_ = 0;
   Vec3 origin_;
   int64_t nx_ = 0, ny_ = 0, nz_ = 0;

@@ -270,6 +270,22 @@ runs = [froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n
 check(all(p.returncode == 0 for p in runs), f"graded ensemble: {[p.returncode for p in runs]} {runs[0].stderr}")
 check("2 built" in runs[0].stdout and "0 built" in runs[1].stdout and "2 built" in runs[2].stdout,
       f"graded ensemble resumes: {[p.stdout for p in runs]}")
+# A graded mesh records the options that shaped h as field data, and the default floor keeps
+# the estimated cells within 3 times a uniform mesh's (the tube's wall, r/10, would take 64
+# times as many cells at the floor r/4).
+out, rep = os.path.join(tmp, "graded.vtu"), os.path.join(tmp, "graded.json")
+p = froth("mesh", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "--seed", "1", "--grade", "-o", out, "--report", rep)
+check(p.returncode == 0 and "times a uniform mesh's cells" in p.stdout, f"graded mesh: {p.returncode} {p.stderr}")
+if p.returncode == 0:
+    sizing = json.load(open(rep))["sizing"]
+    fd = read_vtk(out).GetFieldData()
+    field = {n: vtk_to_numpy(fd.GetArray(n))[0] for n in ("grade", "min_r", "max_grading")}
+    radius = vtk_to_numpy(read_vtk(out).GetCellData().GetArray("radius"))
+    check(field["grade"] == 1 and field["min_r"] == sizing["min_r"] and field["max_grading"] == 0.2,
+          f"graded field data {field} vs report {sizing}")
+    check(sizing["floor_raised"] and 3.0585 / 4 < sizing["min_r"] < 3.0585 and sizing["estimated_cell_ratio"] <= 3,
+          f"default floor: {sizing}")
+    check(radius.min() >= sizing["min_r"] * (1 - 1e-6) and radius.max() <= 3.0585, f"radius {radius.min()} {radius.max()}")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", "/nonexistent-dir/x.vtu")
 check(p.returncode == 4, f"unwritable output: exit code {p.returncode}")
 # froth quality: the same report from froth's VTU as the run report; the same again from VTUs that
