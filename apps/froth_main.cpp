@@ -28,7 +28,7 @@ struct MeshArgs {
   double r = 0;
   uint64_t seed = 0;
   std::string output;
-  double weld = -1;  // default: 1e-4 r
+  double weld = -1;  // default: froth::default_weld_tolerance
   int threads = 0;
   std::string report;
   bool no_quality = false;
@@ -48,8 +48,10 @@ std::string default_output(const std::string& input) {
 const CLI::Validator kNonNegativeSeed(
     [](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; }, "SEED");
 
-// --weld: negative (unset) means the default, 1e-4 r.
-double weld_tolerance(double weld, double r) { return weld < 0 ? 1e-4 * r : weld; }
+// --weld: negative (unset) means the default, 1e-4 min(r, the domain's diagonal).
+double weld_tolerance(double weld, double r, const froth::Domain& domain) {
+  return weld < 0 ? froth::default_weld_tolerance(r, domain.bounds.diagonal()) : weld;
+}
 
 // "interior aspect ratio A to B (mean M)", or what stands for it when there is no interior cell
 // (a domain thinner than r).
@@ -142,11 +144,11 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
 }
 
 // The options `froth mesh` runs with; progress on stderr if `tell` and it is a terminal.
-froth::MeshOptions mesh_options(const MeshArgs& a, bool tell) {
+froth::MeshOptions mesh_options(const MeshArgs& a, const froth::Domain& domain, bool tell) {
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
-  opt.weld = weld_tolerance(a.weld, a.r);
+  opt.weld = weld_tolerance(a.weld, a.r, domain);
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
   opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
@@ -157,7 +159,7 @@ froth::MeshOptions mesh_options(const MeshArgs& a, bool tell) {
 
 int run_mesh(const MeshArgs& a) {
   froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
-  const froth::MeshOptions opt = mesh_options(a, true);
+  const froth::MeshOptions opt = mesh_options(a, domain, true);
   froth::RunReport run;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
   const std::string output = a.output.empty() ? default_output(a.input) : a.output;
@@ -181,7 +183,7 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
   if (output.extension() != ".pvtu")
     froth::fail(froth::ErrorKind::Usage, fmt::format("--partition writes a .pvtu file, not {}", output.string()));
   froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
-  const froth::MeshOptions opt = mesh_options(a, comm.rank() == 0);
+  const froth::MeshOptions opt = mesh_options(a, domain, comm.rank() == 0);
   froth::RunReport run;
   froth::PartitionReport part;
   froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
@@ -280,7 +282,6 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.r = a.r;
   opt.seed = a.seed;
   opt.members = a.members;
-  opt.weld = weld_tolerance(a.weld, a.r);
   opt.quality = !a.no_quality;
   opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
   opt.threads = a.threads;
@@ -294,6 +295,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   int code = 0;
   try {
     froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+    opt.weld = weld_tolerance(a.weld, a.r, domain);
     done = froth::build_members(domain, opt);
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
@@ -408,7 +410,7 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
       ->check(kNonNegativeSeed);
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
-  mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 r; 0 = off)")
+  mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 min(r, the domain's diagonal); 0 = off)")
       ->check(CLI::NonNegativeNumber);
   mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
@@ -434,7 +436,7 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("--seed", ea.seed, "ensemble seed S; member k has seed froth::member_seed(S, k)")
       ->check(kNonNegativeSeed);
   ensemble->add_option("-o,--output", ea.dir, "output directory")->required();
-  ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 r; 0 = off)")->check(CLI::NonNegativeNumber);
+  ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 min(r, the domain's diagonal); 0 = off)")->check(CLI::NonNegativeNumber);
   ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
   ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
   ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");

@@ -1,6 +1,7 @@
 // Welding (paper §2.4): cell vertices joined by an edge shorter than w become one vertex, by one
 // global decision, so every cell sees the same merge and the mesh stays conforming.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -24,6 +25,11 @@ struct WeldStats {
   // volume they enclose by at most d * border area to first order.
   double volume_change_bound() const { return max_displacement * border_area; }
 };
+
+// The default tolerance: 1e-4 of the cells' size, which is r, or the domain's diagonal where r
+// is larger (one cell, or a few, over the whole part: a tolerance from r would then weld away
+// the part's own details).
+inline double default_weld_tolerance(double r, double domain_diagonal) { return 1e-4 * std::min(r, domain_diagonal); }
 
 // Welds the mesh in place with tolerance w > 0 (r scales the non-planarity figure). Vertices on
 // the domain's boundary keep their position when merged with others (the one on the most

@@ -462,8 +462,16 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       faces.ids.insert(faces.ids.end(), loop.begin(), loop.end());
       faces.begin.push_back(uint32_t(faces.ids.size()));
     };
+    // A loop turning clockwise by more than round-off. One of (nearly) no area, its points
+    // (nearly) one, where a face passes exactly through a domain vertex, is a face like any
+    // other: welding removes it.
+    auto is_hole = [&](std::span<const int32_t> loop) {
+      double perimeter = 0;
+      for (size_t k = 0; k < loop.size(); ++k) perimeter += norm(pts[loop[(k + 1) % loop.size()]] - pts[loop[k]]);
+      return dot(loop_area(pts, loop), n) < -1e-12 * perimeter * perimeter;
+    };
     bool any_hole = false;
-    for (size_t k = 0; k < plane_loops.size(); ++k) any_hole |= !(dot(loop_area(pts, plane_loops[k]), n) > 0);
+    for (size_t k = 0; k < plane_loops.size(); ++k) any_hole |= is_hole(plane_loops[k]);
     if (!any_hole) {  // the usual case
       for (size_t k = 0; k < plane_loops.size(); ++k) add(plane_loops[k], 0);
       return true;
@@ -471,16 +479,27 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     std::vector<std::vector<int32_t>> outer, holes;
     for (size_t k = 0; k < plane_loops.size(); ++k) {
       const auto loop = plane_loops[k];
-      (dot(loop_area(pts, loop), n) > 0 ? outer : holes).emplace_back(loop.begin(), loop.end());
+      (is_hole(loop) ? holes : outer).emplace_back(loop.begin(), loop.end());
     }
     // Each hole in the smallest outer loop around it (outer loops of one plane do not cross).
+    // Loops may touch at a vertex (pinched faces), so the hole is located by a point just off
+    // its longest edge on the face's side (the left, as for every boundary loop), not by a
+    // vertex, which may lie on the outer loop itself.
     std::vector<std::vector<size_t>> holes_of(outer.size());
     for (size_t h = 0; h < holes.size(); ++h) {
+      const std::vector<int32_t>& hole = holes[h];
+      size_t longest = 0;
+      for (size_t k = 1; k < hole.size(); ++k)
+        if (norm2(pts[hole[(k + 1) % hole.size()]] - pts[hole[k]]) >
+            norm2(pts[hole[(longest + 1) % hole.size()]] - pts[hole[longest]]))
+          longest = k;
+      const Vec3 a = pts[hole[longest]], b = pts[hole[(longest + 1) % hole.size()]];
+      const Vec3 probe = 0.5 * (a + b) + 1e-6 * cross(n, b - a);
       size_t host = outer.size();
       double host_area = INFINITY;
       for (size_t o = 0; o < outer.size(); ++o) {
         const double area = dot(loop_area(pts, outer[o]), n);
-        if (area < host_area && encloses(pts, outer[o], pts[holes[h][0]], n)) host = o, host_area = area;
+        if (area < host_area && encloses(pts, outer[o], probe, n)) host = o, host_area = area;
       }
       if (host == outer.size()) return false;
       holes_of[host].push_back(h);

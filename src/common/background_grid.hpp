@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "froth/geometry.hpp"
@@ -60,7 +61,8 @@ struct BackgroundGrid {
     return d * d;
   }
 
-  // Calls f(cube index) for every existing cube whose distance to p is below `reach`.
+  // Calls f(cube index) for every existing cube whose distance to p is below `reach`; if f
+  // returns bool, true stops the walk.
   template <class F>
   void for_cubes_near(Vec3 p, double reach, F&& f) const {
     int ci, cj, ck;
@@ -76,7 +78,12 @@ struct BackgroundGrid {
         if (dyz >= r2) continue;
         int64_t row = (int64_t(k) * ny + j) * nx;
         for (int i = std::max(0, ci - span); i <= std::min(nx - 1, ci + span); ++i) {
-          if (dyz + axis_gap(q.x, i, side) < r2) f(row + i);
+          if (dyz + axis_gap(q.x, i, side) >= r2) continue;
+          if constexpr (std::is_same_v<decltype(f(row + i)), bool>) {
+            if (f(row + i)) return;
+          } else {
+            f(row + i);
+          }
         }
       }
     }

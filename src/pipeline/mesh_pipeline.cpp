@@ -107,7 +107,8 @@ FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunRe
 }
 
 // The sizing field: uniform unless grading is asked for and a wall or gap needs it.
-SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const MeshOptions& opt, RunReport& run) {
+SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const MeshOptions& opt, RunReport& run,
+                         Stopwatch& watch) {
   if (!opt.grade || fs.thickness.empty()) return SizingField::uniform(opt.r);
   if (!(opt.grading > 0) || !(opt.grading < 0.25))
     fail(ErrorKind::Usage, fmt::format("--max-grading must be in (0, 0.25), got {} (the field's slope is sqrt(3) times "
@@ -118,6 +119,7 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
   SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading});
   run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
                 h.cell_ratio,         h.floor_raised};
+  run.stages.push_back({"sizing", watch.lap(), peak_rss_bytes()});
   return h;
 }
 
@@ -243,7 +245,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   };
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
-  const SizingField sizing = sizing_field(domain, fs, opt, run);
+  const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
   progress("sampling");
   Sample sample = sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed)
                                       : sample_graded_poisson_disk(domain, sizing, opt.seed);
@@ -277,7 +279,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   start_run(domain, opt, run);
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
-  const SizingField sizing = sizing_field(domain, fs, opt, run);
+  const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
   part.rank = comm.rank();
   part.ranks = comm.size();
   part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);

@@ -56,7 +56,8 @@ struct Dart {
 class GradedSampler {
  public:
   GradedSampler(const Domain& d, const SizingField& h, uint64_t seed)
-      : d_(d), h_(h), r_(h.r()), seed_(seed), rng_(seed, RandomStream::Graded) {
+      : d_(d), h_(h), r_(h.r()), reach_factor_((1 + 1e-6) / (1 - h.lipschitz())), seed_(seed),
+        rng_(seed, RandomStream::Graded) {
     s_.grid = BackgroundGrid::covering(d.bounds, r_);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
@@ -124,43 +125,85 @@ class GradedSampler {
     return {double(level * kRoundsPerLevel + round) + CounterRng::unit(w[3]), p, c.boundary};
   }
 
-  // Calls f(seed) for the seeds whose base cube lies within `reach` of p (h <= r: r + a cube
-  // finds every disk that can hold p or a point of a cube around p).
+  // Calls f(seed) for the seeds whose base cube lies within `reach` of p, until f returns true.
   template <class F>
   void for_seeds_near(Vec3 p, double reach, F&& f) const {
     s_.grid.for_cubes_near(p, reach, [&](int64_t c) {
-      for (int32_t q = head_[size_t(c)]; q >= 0; q = next_[size_t(q)]) f(q);
+      for (int32_t q = head_[size_t(c)]; q >= 0; q = next_[size_t(q)])
+        if (f(q)) return true;
+      return false;
     });
+  }
+  // How far from p a seed can be whose disk reaches within `extra` of p: |p - q| < h(q) + extra
+  // and h(q) <= h(p) + lambda |p - q| give (h(p) + extra) / (1 - lambda), and never more than
+  // r + extra. Where h is small this reads a few base cubes instead of all within r (the scans
+  // were most of the graded sampler's time). The slack covers the nodes' float rounding.
+  double reach(Vec3 p, double extra) const {
+    return std::min(r_ + extra, (h_.at(p) + extra) * reach_factor_ + 1e-9 * r_);
   }
   bool covered(Vec3 p) const {
     bool in = false;
-    for_seeds_near(p, r_, [&](int32_t q) { in |= norm2(p - seeds_[q]) < radius_[q] * radius_[q]; });
+    for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_[q]) < radius_[q] * radius_[q]; });
     return in;
   }
   // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from level 3
   // on, inside the union of two (box_in_two_balls): without it the cubes along the curves where
-  // disks meet are refined to the last level.
-  bool cube_covered(const Cube& c, int level) const {
-    const double s = side(level);
-    const Vec3 lo = corner(c, level), mid = lo + 0.5 * s * Vec3{1, 1, 1};
-    const double half_diagonal = 0.5 * std::sqrt(3.0) * s;
-    bool in = false;
-    int32_t near[16];
+  // disks meet are refined to the last level. The first disk found to hold the cube ends the
+  // search: with a margin for round-off, by its distance to the centre alone.
+  struct CubeTest {
+    Vec3 lo, mid;
+    double s, half_diagonal;
+    int32_t near[16];  // the first disks that reach into the cube, for the two-disk test
     int n = 0;
-    for_seeds_near(mid, r_ + s, [&](int32_t q) {
-      if (in) return;
-      const double h2 = radius_[q] * radius_[q];
-      bool all = true;
-      for (int k = 0; k < 8 && all; ++k)
-        all = norm2(lo + s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)} - seeds_[q]) < h2;
-      in = all;
-      if (n < 16 && norm(mid - seeds_[q]) < radius_[q] + half_diagonal) near[n++] = q;
-    });
-    if (in || level < 3) return in;
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b)
-        if (box_in_two_balls(lo, s, seeds_[near[a]], radius_[near[a]], seeds_[near[b]], radius_[near[b]])) return true;
+  };
+  CubeTest cube_test(const Cube& c, int level) const {
+    CubeTest t;
+    t.s = side(level), t.lo = corner(c, level), t.mid = t.lo + 0.5 * t.s * Vec3{1, 1, 1};
+    t.half_diagonal = 0.5 * std::sqrt(3.0) * t.s;
+    return t;
+  }
+  // Seed q against the cube: true if its disk holds the whole cube.
+  bool holds(CubeTest& t, int32_t q) const {
+    const double h = radius_[q], dist = norm(t.mid - seeds_[q]);
+    if (dist >= h + t.half_diagonal) return false;
+    if (t.n < 16) t.near[t.n++] = q;
+    if (dist + t.half_diagonal < h * (1 - 1e-12)) return true;
+    bool all = true;
+    for (int k = 0; k < 8 && all; ++k)
+      all = norm2(t.lo + t.s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)} - seeds_[q]) < h * h;
+    return all;
+  }
+  bool in_two_disks(const CubeTest& t, int level) const {
+    if (level < 3) return false;
+    for (int a = 0; a < t.n; ++a)
+      for (int b = a + 1; b < t.n; ++b)
+        if (box_in_two_balls(t.lo, t.s, seeds_[t.near[a]], radius_[t.near[a]], seeds_[t.near[b]], radius_[t.near[b]]))
+          return true;
     return false;
+  }
+  bool cube_covered(const Cube& c, int level) const {
+    CubeTest t = cube_test(c, level);
+    bool in = false;
+    for_seeds_near(t.mid, reach(t.mid, t.half_diagonal), [&](int32_t q) { return in = holds(t, q); });
+    return in || in_two_disks(t, level);
+  }
+  // The same test from `candidates`, the seeds whose disks reach into the cube's parent in the
+  // order the grid gives them (seeds_reaching): a disk that reaches into a child reaches into
+  // its parent, and the order is the grid's, so the answer is cube_covered's with one grid
+  // walk per parent instead of one per child.
+  bool cube_covered(const Cube& c, int level, const std::vector<int32_t>& candidates) const {
+    CubeTest t = cube_test(c, level);
+    for (int32_t q : candidates)
+      if (holds(t, q)) return true;
+    return in_two_disks(t, level);
+  }
+  void seeds_reaching(const Cube& c, int level, std::vector<int32_t>& out) const {
+    const CubeTest t = cube_test(c, level);
+    out.clear();
+    for_seeds_near(t.mid, reach(t.mid, t.half_diagonal), [&](int32_t q) {
+      if (norm(t.mid - seeds_[q]) < radius_[q] + t.half_diagonal) out.push_back(q);
+      return false;
+    });
   }
 
   // Outside the domain (-1), inside (1), or meeting its surface (0). A non-convex domain's cube
@@ -247,12 +290,14 @@ class GradedSampler {
     std::vector<std::vector<Cube>> out(chunks);
     std::vector<std::vector<int32_t>> pools(chunks);
 #pragma omp parallel for schedule(dynamic, 1)
-    for (size_t ch = 0; ch < chunks; ++ch)
+    for (size_t ch = 0; ch < chunks; ++ch) {
+      std::vector<int32_t> candidates;
       for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
         const Cube& c = active[a];
+        seeds_reaching(c, level, candidates);
         for (int q = 0; q < 8; ++q) {
           Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
-          if (cube_covered(child, level + 1)) continue;
+          if (cube_covered(child, level + 1, candidates)) continue;
           if (c.boundary) {
             std::vector<int32_t>& pool = pools[ch];
             const size_t pool_size = pool.size();
@@ -266,6 +311,7 @@ class GradedSampler {
           out[ch].push_back(child);
         }
       }
+    }
     std::vector<int32_t> pool;
     std::vector<Cube> all = join(out, pools, pool);
     pool_.swap(pool);
@@ -334,7 +380,7 @@ class GradedSampler {
 
   const Domain& d_;
   const SizingField& h_;
-  double r_;
+  double r_, reach_factor_;
   uint64_t seed_;
   CounterRng rng_;
   Sample s_;

@@ -58,11 +58,21 @@ struct SizingBuilder {
   void sweep(SizingField& f, double floor) const {
     f.min_r_ = floor;
     const double r = f.r_, L = f.grading_;
-    // Nodes over the box grown by the reach of the grading, spacing r/4 (coarser for a huge box).
+    // Nodes, spacing r/4 (coarser for a huge box), where h can be below r: within the grading's
+    // reach of a thin place, and in the domain's box (a node beyond it is never read: the field
+    // is extended by its value at the nearest node). Nodes at the reach are r, so extending the
+    // field there gives r beyond it too.
     const double reach = (r - std::min(floor, r / 4)) / L;
-    const Vec3 lo = d.bounds.lo - Vec3{reach, reach, reach}, hi = d.bounds.hi + Vec3{reach, reach, reach};
+    Vec3 lo = thin[0].centroid, hi = lo;
+    for (const ThinPlace& p : thin)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p.centroid[a]), hi[a] = std::max(hi[a], p.centroid[a]);
+    for (int a = 0; a < 3; ++a)
+      lo[a] = std::max(lo[a] - reach, d.bounds.lo[a] - r / 4), hi[a] = std::min(hi[a] + reach, d.bounds.hi[a] + r / 4);
+    const double g = std::max(r / 4, std::cbrt((hi.x - lo.x) * (hi.y - lo.y) * (hi.z - lo.z) / 3e7));
+    // Shifted by a fraction of a step: CAD faces often lie on round coordinates, and nodes on
+    // them make the estimate's inside tests degenerate (and slow, in exact arithmetic).
+    lo = lo - g * Vec3{0.1372, 0.2913, 0.4137};
     const Vec3 size = hi - lo;
-    const double g = std::max(r / 4, std::cbrt(size.x * size.y * size.z / 3e7));
     f.spacing_ = g, f.origin_ = lo;
     f.nx_ = int64_t(std::ceil(size.x / g)) + 1, f.ny_ = int64_t(std::ceil(size.y / g)) + 1,
     f.nz_ = int64_t(std::ceil(size.z / g)) + 1;
@@ -108,10 +118,15 @@ struct SizingBuilder {
   // costs one ray, not one per node.
   CellEstimate estimate(const SizingField& f) const {
     const int64_t nx = f.nx_, rows = f.ny_ * f.nz_;
+    const double graded_below = f.r_ * (1 - 1e-6);  // the nodes hold r as a float
     std::vector<std::vector<float>> found(static_cast<size_t>(rows));
     const double g = f.spacing_;
     std::unique_ptr<TriangleGrid> grid;
-    if (d.locator) grid = std::make_unique<TriangleGrid>(d.surface, *d.locator, 2 * g);
+    // Buckets of two node steps, but at most 64 along the box's longest side: the grid is built
+    // over the whole surface, and a fine one over a large box cost more than the walk it serves.
+    const Vec3 extent = d.bounds.size();
+    if (d.locator)
+      grid = std::make_unique<TriangleGrid>(d.surface, *d.locator, std::max(2 * g, std::max({extent.x, extent.y, extent.z}) / 64));
     auto in_box = [&](Vec3 x) {
       return x.x >= d.bounds.lo.x && x.y >= d.bounds.lo.y && x.z >= d.bounds.lo.z && x.x <= d.bounds.hi.x &&
              x.y <= d.bounds.hi.y && x.z <= d.bounds.hi.z;
@@ -126,11 +141,19 @@ struct SizingBuilder {
         auto node = [&](int64_t i) { return f.origin_ + g * Vec3{double(i), double(j), double(k)}; };
         int64_t first = -1, last = -1;
         for (int64_t i = 0; i < nx; ++i)
-          if (h[i] < f.r_ && in_box(node(i))) last = i, first = first < 0 ? i : first;
+          if (h[i] < graded_below && in_box(node(i))) last = i, first = first < 0 ? i : first;
         if (first < 0) continue;
-        bool inside = d.contains(node(first));
+        // From a point before the domain's box (outside), so that no row needs a ray.
+        const Vec3 start{d.bounds.lo.x - g, node(first).y, node(first).z};
+        bool inside = false;
+        if (!grid) {
+          inside = d.contains(node(first));
+        } else {
+          grid->triangles_near(start, node(first), near);
+          if (!d.locator->side_from(start, false, node(first), near, inside)) inside = d.contains(node(first));
+        }
         for (int64_t i = first;; ++i) {
-          if (inside && h[i] < f.r_ && in_box(node(i))) found[size_t(row)].push_back(h[i]);
+          if (inside && h[i] < graded_below && in_box(node(i))) found[size_t(row)].push_back(h[i]);
           if (i == last) break;
           const Vec3 a = node(i), b = node(i + 1);
           if (!grid) {
@@ -148,7 +171,7 @@ struct SizingBuilder {
     for (const auto& t : S.triangles) {
       const Vec3 a = S.vertices[t[0]], b = S.vertices[t[1]], c = S.vertices[t[2]];
       const double h = f.at((1.0 / 3) * (a + b + c)), area = 0.5 * norm(cross(b - a, c - a));
-      if (h < f.r_) e.facets.push_back({area, float(h)});
+      if (h < graded_below) e.facets.push_back({area, float(h)});
     }
     e.node_volume = g * g * g, e.volume = std::max(d.volume, 1e-300), e.area = d.surface_area, e.r = f.r_;
     return e;

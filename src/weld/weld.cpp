@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "common/closed_edges.hpp"
 #include "common/face_plane.hpp"
 #include "common/union_find.hpp"
 
@@ -75,15 +76,14 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         }
   std::vector<int64_t> member_faces;
   for (auto& t : touched) member_faces.insert(member_faces.end(), t.begin(), t.end());
-  if (before_change) {
-    // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
-    std::vector<size_t> cells;
-    for (int64_t f : member_faces)
-      cells.push_back(size_t(std::upper_bound(m.cell_face_begin.begin(), m.cell_face_begin.end(), f) -
-                             m.cell_face_begin.begin() - 1));
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    before_change(cells);
-  }
+  // The cells welding can change.
+  std::vector<size_t> cells;
+  for (int64_t f : member_faces)
+    cells.push_back(size_t(std::upper_bound(m.cell_face_begin.begin(), m.cell_face_begin.end(), f) -
+                           m.cell_face_begin.begin() - 1));
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
+  if (before_change) before_change(cells);
 
   // Border planes of every vertex on a short edge.
   std::map<int32_t, std::vector<int32_t>> planes;
@@ -105,6 +105,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   // are), and merge again without them, until no cluster is refused.
   UnionFind uf(m.points.size());
   std::vector<int32_t> cyc, sorted;
+  EdgeUses closure;
   // Per cluster root, the vertex on the most border planes (the smallest id on a tie): it
   // keeps its place.
   struct Keeper {
@@ -140,6 +141,22 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       if (refused[v]) continue;
       const std::vector<int32_t>& kept = *keeper[uf.find(v)].planes;
       if (!std::includes(kept.begin(), kept.end(), p.begin(), p.end())) refused[v] = 1, pinched = true;
+    }
+    // A cell that would no longer close (a cluster spanning a cell thinner than w folds its
+    // faces onto each other: a domain whose details are below w) keeps all its vertices.
+    if (!pinched) {
+      for (size_t c : cells) {
+        closure.clear();
+        for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+          collapsed(m, f, [&](int32_t v) { return uf.find(v); }, cyc);
+          for (size_t k = 0; cyc.size() >= 3 && k < cyc.size(); ++k)
+            closure.add(uint32_t(cyc[k]), uint32_t(cyc[(k + 1) % cyc.size()]));
+        }
+        if (closure.each_once_each_way()) continue;
+        for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
+          if (member[m.face_vertices[k]]) refused[m.face_vertices[k]] = 1;
+        pinched = true;
+      }
     }
     if (!pinched) break;
     for (bool spread = true; spread;) {  // refuse the rest of those clusters too
