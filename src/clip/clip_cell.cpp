@@ -485,7 +485,11 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     // Loops may touch at a vertex (pinched faces), so the hole is located by a point just off
     // its longest edge on the face's side (the left, as for every boundary loop), not by a
     // vertex, which may lie on the outer loop itself.
+    // A clockwise sliver around no outer loop, far below the cell's size, comes of crossings
+    // that nearly coincide at a domain vertex (the hinge at r = diag/2: a 1e-6 triangle): it is
+    // kept as a face of its own, which welding removes.
     std::vector<std::vector<size_t>> holes_of(outer.size());
+    std::vector<size_t> stray;
     for (size_t h = 0; h < holes.size(); ++h) {
       const std::vector<int32_t>& hole = holes[h];
       size_t longest = 0;
@@ -501,13 +505,19 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
         const double area = dot(loop_area(pts, outer[o]), n);
         if (area < host_area && encloses(pts, outer[o], probe, n)) host = o, host_area = area;
       }
-      if (host == outer.size()) return false;
-      holes_of[host].push_back(h);
+      if (host < outer.size()) {
+        holes_of[host].push_back(h);
+      } else if (std::abs(dot(loop_area(pts, hole), n)) < tol::negligible_loop_area(half)) {
+        stray.push_back(h);
+      } else {
+        return false;
+      }
     }
     for (size_t o = 0; o < outer.size(); ++o) {
       add(outer[o], holes_of[o].empty() ? 0 : 1);
       for (size_t h : holes_of[o]) add(holes[h], 2);
     }
+    for (size_t h : stray) add(holes[h], 0);
     return true;
   };
   // Where a seam crosses a face of V the loops only pass straight on: such a point is dropped

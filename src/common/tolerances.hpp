@@ -14,6 +14,10 @@ inline double on_plane(double r) { return 1e-11 * r; }
 // coordinates of long input triangles, hence the domain term. `size`: the cell's half-width.
 inline double clear_of_facet(double size, double domain_diagonal) { return 1e-9 * size + 1e-12 * domain_diagonal; }
 
+// A face loop of the clipper smaller than this (in area) is a sliver of near-coincident
+// crossings, not a feature of the domain. `size`: the cell's half-width.
+inline double negligible_loop_area(double size) { return (1e-6 * size) * (1e-6 * size); }
+
 // Facet planes whose normals and offsets agree to this are one plane of the domain.
 inline double coplanar(double domain_diagonal) { return 1e-9 * domain_diagonal; }
 
