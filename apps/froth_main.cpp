@@ -122,6 +122,11 @@ std::string details_sentence(const froth::RunReport& run) {
       "shortest edge {:.3g}; cells beyond the paper's bounds{}: {} (Theorem 1), {} and {} (Lemma 6).",
       interior_aspect_text(q), ii.min, ii.max, q.shortest_edge, run.bounds_before_weld ? " before welding" : "",
       b.theorem1_violations, b.lemma6_interior_violations, b.lemma6_border_violations);
+  if (b.graded_cells > 0)
+    out += fmt::format(" The bounds are judged where h = r; the {} cells with h < r at them or a neighbour are counted "
+                       "apart: {}, {} and {} beyond them.",
+                       b.graded_cells, b.graded_outside.theorem1, b.graded_outside.lemma6_interior,
+                       b.graded_outside.lemma6_border);
   if (run.bounds_before_weld)
     out += fmt::format(" Welding moved aspect ratios by at most {:.2g} and dihedrals by at most {:.2g} degrees.",
                        run.weld_aspect_shift, run.weld_dihedral_shift);

@@ -85,6 +85,11 @@ struct PolyMesh {
   std::vector<Vec3> centers;
   // Each cell's exclusion radius, h at its seed; empty: r for every cell.
   std::vector<double> radii;
+  double r = 0;  // the sampling radius; 0 if unknown (a VTU without froth's field data)
+  // Per cell: h < r at its seed or at a face neighbour's (quality.hpp's graded cells), worked
+  // out where every neighbour is known (a partitioned run's cells with their ghost ring);
+  // empty: from the radii.
+  std::vector<uint8_t> near_graded;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }

@@ -21,8 +21,14 @@ CellQuality cell_quality(const PolyMesh& mesh, size_t c);
 struct CellVerdict {
   CellQuality q;
   bool theorem1 = false, lemma6_interior = false, lemma6_border = false;
+  // h < r at the cell's seed or a face neighbour's: the bounds, which are the paper's for a
+  // uniform r, are not judged there (the counts go to QualityReport::graded_outside).
+  bool graded = false;
 };
 CellVerdict cell_verdict(const PolyMesh& mesh, size_t c);
+// Is h below r at cell c's seed or at a face neighbour's (PolyMesh::near_graded, else radii; r
+// unknown: no)?
+bool graded_near(const PolyMesh& mesh, size_t c);
 
 // Edges between two faces, by the faces' kinds.
 enum class DihedralClass : uint8_t { InteriorInterior = 0, BorderInterior = 1, BorderBorder = 2 };
@@ -56,6 +62,10 @@ struct QualityReport {
   // aspect ratio above 2 (Theorem 1), interior cells with an interior-interior dihedral outside
   // [60°, 150°] (Lemma 6), cells with a border-interior dihedral outside [30°, 150°] (Lemma 6).
   uint64_t theorem1_violations = 0, lemma6_interior_violations = 0, lemma6_border_violations = 0;
+  // Cells with h < r at their seed or a face neighbour's (--grade): outside the bounds' scope,
+  // counted apart, with how many of them lie beyond each bound.
+  uint64_t graded_cells = 0;
+  struct { uint64_t theorem1 = 0, lemma6_interior = 0, lemma6_border = 0; } graded_outside;
   double shortest_edge = 0;
 };
 

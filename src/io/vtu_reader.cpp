@@ -88,6 +88,13 @@ class Reader {
   size_t points() const { return piece_.attribute("NumberOfPoints").as_ullong(); }
   size_t cells() const { return piece_.attribute("NumberOfCells").as_ullong(); }
 
+  // A field data array of the grid (froth writes r, weld, random_seed, ...).
+  pugi::xml_node field(const char* name) const {
+    for (auto a : piece_.parent().child("FieldData").children("DataArray"))
+      if (std::string(a.attribute("Name").as_string()) == name) return a;
+    return {};
+  }
+
   pugi::xml_node array(const char* section, const char* name, bool required = true) const {
     auto sec = piece_.child(section);
     for (auto a : sec.children("DataArray"))
@@ -318,6 +325,16 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     if (p.size() != nc) bad(path, "the piece array does not have one value per cell");
     if (std::any_of(p.begin(), p.end(), [](int64_t v) { return v != 0; }))
       for (int64_t v : p) m.piece.push_back(uint32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
+  }
+  // froth's r and graded radii, so that the bounds are judged as in the run (quality.hpp).
+  if (auto r = rd.field("r")) {
+    const std::vector<double> v = rd.values<double>(r);
+    if (v.size() == 1 && v[0] > 0) m.r = v[0];
+  }
+  if (auto radius = rd.array("CellData", "radius", false); radius && m.r > 0) {
+    std::vector<double> h = rd.values<double>(radius);
+    if (h.size() != nc) bad(path, "the radius array does not have one value per cell");
+    if (std::any_of(h.begin(), h.end(), [&](double v) { return v < m.r; })) m.radii = std::move(h);
   }
   m.kinds.assign(nc, CellKind::Interior);
   if (auto kind = rd.array("CellData", "kind", false)) {

@@ -123,11 +123,15 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
   return h;
 }
 
-// Cell data radius: h at each seed (left empty, r for all, when nothing is graded).
+// Cell data radius: h at each seed (left empty, r for all, when nothing is graded); and which
+// cells have h < r at themselves or a neighbour, fixed before welding removes any face.
 void set_radii(PolyMesh& mesh, const SizingField& sizing) {
   if (sizing.is_uniform()) return;
   mesh.radii.resize(mesh.cell_count());
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
+  std::vector<uint8_t> near(mesh.cell_count());
+  for (size_t c = 0; c < mesh.cell_count(); ++c) near[c] = graded_near(mesh, c);
+  mesh.near_graded = std::move(near);
 }
 
 // A piece of a cell smaller than a cube of 4 weld tolerances could collapse under welding: it
@@ -204,9 +208,15 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
       for (size_t i = 0; i < welded.cells.size(); ++i) {
         const CellVerdict after = cell_verdict(mesh, welded.cells[i]);
         const CellVerdict& was = welded.before[i];
-        before.theorem1_violations += uint64_t(was.theorem1) - uint64_t(after.theorem1);
-        before.lemma6_interior_violations += uint64_t(was.lemma6_interior) - uint64_t(after.lemma6_interior);
-        before.lemma6_border_violations += uint64_t(was.lemma6_border) - uint64_t(after.lemma6_border);
+        // (The radii do not change with welding, so neither does a cell's gradedness.)
+        uint64_t* counts[3] = {&before.theorem1_violations, &before.lemma6_interior_violations,
+                               &before.lemma6_border_violations};
+        if (was.graded)
+          counts[0] = &before.graded_outside.theorem1, counts[1] = &before.graded_outside.lemma6_interior,
+          counts[2] = &before.graded_outside.lemma6_border;
+        *counts[0] += uint64_t(was.theorem1) - uint64_t(after.theorem1);
+        *counts[1] += uint64_t(was.lemma6_interior) - uint64_t(after.lemma6_interior);
+        *counts[2] += uint64_t(was.lemma6_border) - uint64_t(after.lemma6_border);
         run.weld_aspect_shift = std::max(run.weld_aspect_shift, std::abs(after.q.aspect - was.q.aspect));
         run.weld_dihedral_shift =
             std::max({run.weld_dihedral_shift, std::abs(after.q.min_dihedral - was.q.min_dihedral),
@@ -317,6 +327,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   if (opt.progress) opt.progress("cells");
   TessellationTimes tt;
   PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt));
+  set_radii(ring, sizing);
   // The owned seeds' cells, pieces included (a seed's pieces follow it).
   const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
                own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));
@@ -345,7 +356,6 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
       welded.cells.push_back(welded_ring.cells[k] - own_begin);
       welded.before.push_back(welded_ring.before[k]);
     }
-  set_radii(mesh, sizing);
   finish_mesh(domain, mesh, opt, run, welded, watch);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();

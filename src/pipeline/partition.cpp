@@ -158,6 +158,7 @@ CellWindow exchange_cell_halo(const Sample& sampled, const Slab& slab, Communica
 
 PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& other_piece_faces) {
   PolyMesh out;
+  out.r = m.r;
   const int64_t f0 = m.cell_face_begin[begin], f1 = m.cell_face_begin[end];
   const int64_t v0 = m.face_vertex_begin[f0], v1 = m.face_vertex_begin[f1];
   // Points keep their relative order.
@@ -172,6 +173,10 @@ PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& othe
   out.seeds.assign(m.seeds.begin() + begin, m.seeds.begin() + end);
   out.kinds.assign(m.kinds.begin() + begin, m.kinds.begin() + end);
   if (!m.piece.empty()) out.piece.assign(m.piece.begin() + begin, m.piece.begin() + end);
+  if (!m.radii.empty()) {
+    out.radii.assign(m.radii.begin() + begin, m.radii.begin() + end);
+    for (size_t c = begin; c < end; ++c) out.near_graded.push_back(graded_near(m, c));  // the ring knows every neighbour
+  }
   out.cell_face_begin.resize(end - begin + 1);
   for (size_t c = begin; c <= end; ++c) out.cell_face_begin[c - begin] = m.cell_face_begin[c] - f0;
   out.face_generator.resize(size_t(f1 - f0));

@@ -139,9 +139,10 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
 // border-interior bound of every cell. Lemma 6 takes sin(theta) >= 1/2 from seeds r apart; where
 // the seeds that make the angle are protection seeds r_e = r/sqrt(2) apart it has
 // sin(theta) >= sqrt(2)/4 instead (paper §3.2), so theta >= 20.7 degrees.
-CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedral>& angles) {
+CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedral>& angles, bool graded) {
   CellVerdict v;
   v.q = q;
+  v.graded = graded;
   const bool interior = kind == CellKind::Interior;
   v.theorem1 = interior && !(q.aspect <= kTheorem1Aspect);
   for (const Dihedral& d : angles) {
@@ -157,6 +158,36 @@ CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedra
 constexpr int kAspectBins = 60;
 constexpr double kAspectLo = 1, kAspectHi = 4;
 constexpr int kDihedralBins = 90;
+
+}  // namespace
+
+bool graded_near(const PolyMesh& m, size_t c) {
+  if (!m.near_graded.empty()) return m.near_graded[c] != 0;
+  if (m.radii.empty() || !(m.r > 0)) return false;
+  const double below = m.r * (1 - 1e-9);
+  if (m.radii[c] < below) return true;
+  for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+    const int32_t g = m.face_generator[f];
+    if (g >= 0 && size_t(g) < m.radii.size() && m.radii[size_t(g)] < below) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// Adds a cell's verdict to the bound counts, or to the graded cells' apart.
+void count_verdict(QualityReport& r, const CellVerdict& v) {
+  if (v.graded) {
+    ++r.graded_cells;
+    r.graded_outside.theorem1 += v.theorem1;
+    r.graded_outside.lemma6_interior += v.lemma6_interior;
+    r.graded_outside.lemma6_border += v.lemma6_border;
+    return;
+  }
+  r.theorem1_violations += v.theorem1;
+  r.lemma6_interior_violations += v.lemma6_interior;
+  r.lemma6_border_violations += v.lemma6_border;
+}
 
 QualityReport empty_report() {
   QualityReport r;
@@ -186,6 +217,10 @@ void merge_quality(QualityReport& into, const QualityReport& from) {
   into.theorem1_violations += from.theorem1_violations;
   into.lemma6_interior_violations += from.lemma6_interior_violations;
   into.lemma6_border_violations += from.lemma6_border_violations;
+  into.graded_cells += from.graded_cells;
+  into.graded_outside.theorem1 += from.graded_outside.theorem1;
+  into.graded_outside.lemma6_interior += from.graded_outside.lemma6_interior;
+  into.graded_outside.lemma6_border += from.graded_outside.lemma6_border;
   if (from.shortest_edge > 0 && (into.shortest_edge == 0 || from.shortest_edge < into.shortest_edge))
     into.shortest_edge = from.shortest_edge;
 }
@@ -231,7 +266,7 @@ CellVerdict cell_verdict(const PolyMesh& mesh, size_t c) {
   CellScratch w;
   std::vector<Dihedral> angles;
   const CellQuality q = measure(mesh, c, w, &angles);
-  return judge(mesh.kinds[c], q, angles);
+  return judge(mesh.kinds[c], q, angles, graded_near(mesh, c));
 }
 
 QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_cell) {
@@ -262,10 +297,7 @@ QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_ce
           r.dihedral[int(d.cls)].add(d.degrees);
           r.dihedral_histogram[int(d.cls)].add(d.degrees);
         }
-        const CellVerdict v = judge(m.kinds[c], q, angles);
-        r.theorem1_violations += v.theorem1;
-        r.lemma6_interior_violations += v.lemma6_interior;
-        r.lemma6_border_violations += v.lemma6_border;
+        count_verdict(r, judge(m.kinds[c], q, angles, graded_near(m, c)));
       }
     }
   }
@@ -317,6 +349,11 @@ std::string quality_json_text(const QualityReport& q) {
                  {"theorem1_violations", q.theorem1_violations},
                  {"lemma6_interior_violations", q.lemma6_interior_violations},
                  {"lemma6_border_violations", q.lemma6_border_violations}};
+  if (q.graded_cells > 0)
+    j["bounds"]["graded_cells"] = {{"cells", q.graded_cells},
+                                   {"beyond_theorem1", q.graded_outside.theorem1},
+                                   {"beyond_lemma6_interior", q.graded_outside.lemma6_interior},
+                                   {"beyond_lemma6_border", q.graded_outside.lemma6_border}};
   return j.dump(2) + "\n";
 }
 

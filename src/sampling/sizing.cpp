@@ -228,7 +228,9 @@ double SizingField::at(Vec3 x) const {
   const double c00 = at(i, j, k) * (1 - u) + at(i + 1, j, k) * u, c10 = at(i, j + 1, k) * (1 - u) + at(i + 1, j + 1, k) * u;
   const double c01 = at(i, j, k + 1) * (1 - u) + at(i + 1, j, k + 1) * u,
                c11 = at(i, j + 1, k + 1) * (1 - u) + at(i + 1, j + 1, k + 1) * u;
-  return std::min(r_, (c00 * (1 - v) + c10 * v) * (1 - w) + (c01 * (1 - v) + c11 * v) * w);
+  // Nodes hold r rounded to a float: where they all do, h is r itself, not r's float.
+  const double h = (c00 * (1 - v) + c10 * v) * (1 - w) + (c01 * (1 - v) + c11 * v) * w;
+  return h >= double(float(r_)) ? r_ : std::min(r_, h);
 }
 
 }  // namespace froth

@@ -123,6 +123,7 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split) {
   const size_t cells = size_t(first[n]);
 
   PolyMesh out;
+  out.r = m.r;
   out.points = std::move(m.points);
   out.seeds.resize(cells), out.kinds.resize(cells), out.piece.assign(cells, 0);
   out.cell_face_begin.assign(cells + 1, 0);

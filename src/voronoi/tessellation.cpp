@@ -427,6 +427,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
 
   // Global numbering: owned vertices in seed order; faces and face vertices in cell order.
   PolyMesh mesh;
+  mesh.r = r;
   // The grid is not needed any more: free it before the peak.
   std::vector<int32_t>().swap(sample.cube_seed);
   if (n == sample.seeds.size()) mesh.seeds = std::move(sample.seeds);
