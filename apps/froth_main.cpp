@@ -426,7 +426,7 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
   mesh->add_flag("--grade", a.grade,
                  "grade the radius to the input's thin walls and gaps: h(x) <= r, at least --min-r (experimental)");
-  mesh->add_option("--min-r", a.min_r, "with --grade: the smallest radius h may take (default r/4)")
+  mesh->add_option("--min-r", a.min_r, "with --grade: the smallest radius h may take (default: from r/4 up, the lowest that keeps the estimated cells within 3 times a uniform mesh's)")
       ->check(CLI::PositiveNumber);
   mesh->add_option("--max-grading", a.max_grading,
                    "with --grade: the slope of h along its grid, in (0, 0.25) (default 0.2; |grad h| <= sqrt(3) times it)");
@@ -447,7 +447,7 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
   ensemble->add_flag("--repair", ea.repair, "reorient inconsistently wound shells (reported)");
   ensemble->add_flag("--grade", ea.grade, "grade the radius to thin walls and gaps, as for froth mesh (experimental)");
-  ensemble->add_option("--min-r", ea.min_r, "with --grade: the smallest radius (default r/4)")->check(CLI::PositiveNumber);
+  ensemble->add_option("--min-r", ea.min_r, "with --grade: the smallest radius (default: from r/4 up, within a budget of 3 times the uniform cells)")->check(CLI::PositiveNumber);
   ensemble->add_option("--max-grading", ea.max_grading, "with --grade: the slope of h, in (0, 0.25) (default 0.2)");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");

@@ -221,6 +221,8 @@ class Packer {
     for (const auto& h : q.aspect_histogram) put(h);
     for (const auto& h : q.dihedral_histogram) put(h);
     put(q.theorem1_violations), put(q.lemma6_interior_violations), put(q.lemma6_border_violations);
+    put(q.graded_cells), put(q.graded_outside.theorem1), put(q.graded_outside.lemma6_interior),
+        put(q.graded_outside.lemma6_border);
     put(q.shortest_edge);
   }
   void put(const Histogram& h) {
@@ -245,6 +247,8 @@ class Unpacker {
     for (auto& h : q.aspect_histogram) get(h);
     for (auto& h : q.dihedral_histogram) get(h);
     get(q.theorem1_violations), get(q.lemma6_interior_violations), get(q.lemma6_border_violations);
+    get(q.graded_cells), get(q.graded_outside.theorem1), get(q.graded_outside.lemma6_interior),
+        get(q.graded_outside.lemma6_border);
     get(q.shortest_edge);
   }
   void get(Histogram& h) {

@@ -71,8 +71,9 @@ for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
                                ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0866", ["--grade"])):
     serial_path = os.path.join(tmp, f"{name}_serial.vtu")
-    p = subprocess.run([FROTH, "mesh", domain, "-r", r, *common, *extra, "-o", serial_path], capture_output=True,
-                       text=True)
+    serial_report = os.path.join(tmp, f"{name}_serial.json")
+    p = subprocess.run([FROTH, "mesh", domain, "-r", r, *common, *extra, "-o", serial_path, "--report", serial_report],
+                       capture_output=True, text=True)
     if p.returncode != 0:
         failures.append(f"serial mesh of {name}: {p.stderr}")
         continue
@@ -88,6 +89,10 @@ for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
         pieces = sorted(os.listdir(os.path.join(tmp, f"{name}_np{k}")))
         if pieces != [f"{name}_np{k}_{i}.vtu" for i in range(k)]:
             failures.append(f"{name}: mpirun -np {k}: pieces {pieces}")
+        bounds = [json.load(open(f)).get("quality_before_welding", json.load(open(f)).get("quality"))["bounds"]
+                  for f in (serial_report, report)]
+        if bounds[0] != bounds[1]:
+            failures.append(f"{name}: mpirun -np {k}: quality bounds {bounds[1]}, serial {bounds[0]}")
         part = json.load(open(report))["partition"]
         if part["ranks"] != k or sum(x["seeds"] for x in part["per_rank"]) != len(serial):
             failures.append(f"{name}: mpirun -np {k}: report {part}")
