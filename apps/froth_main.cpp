@@ -18,6 +18,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_guards.hpp"
 #include "communicators.hpp"
 #include "froth/froth.hpp"
 
@@ -26,7 +27,8 @@ namespace {
 struct MeshArgs {
   std::string input;
   double r = 0;
-  uint64_t seed = 0;
+  std::string seed_text = "0";
+  uint64_t seed = 0;  // parsed from seed_text (cli_guards)
   std::string output;
   double weld = -1;  // default: froth::default_weld_tolerance
   int threads = 0;
@@ -37,16 +39,13 @@ struct MeshArgs {
   bool partition = false;
   bool grade = false;
   double min_r = 0, max_grading = 0.2;
+  double max_memory_gb = 0;  // 0: the machine's available memory
 };
 
 std::string default_output(const std::string& input) {
   if (input.rfind("box:", 0) == 0) return "box.vtu";
   return std::filesystem::path(input).stem().string() + ".vtu";
 }
-
-// Seeds are unsigned 64-bit: CLI11 would wrap a negative one around.
-const CLI::Validator kNonNegativeSeed(
-    [](const std::string& s) { return s.find('-') == std::string::npos ? "" : "the seed must not be negative"; }, "SEED");
 
 // --weld: negative (unset) means the default, 1e-4 min(r, the domain's diagonal).
 double weld_tolerance(double weld, double r, const froth::Domain& domain) {
@@ -157,23 +156,27 @@ froth::MeshOptions mesh_options(const MeshArgs& a, const froth::Domain& domain, 
   opt.threads = a.threads;
   opt.quality = !a.no_quality;
   opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
+  opt.max_memory_bytes = a.max_memory_gb * 1e9;
   if (tell && isatty(STDERR_FILENO))
     opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
   return opt;
 }
 
 int run_mesh(const MeshArgs& a) {
+  const std::string output = a.output.empty() ? default_output(a.input) : a.output;
+  froth_cli::refuse_same_files({{"the input", a.input}, {"-o", output}, {"--report", a.report}});
   froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
   const froth::MeshOptions opt = mesh_options(a, domain, true);
   froth::RunReport run;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
-  const std::string output = a.output.empty() ? default_output(a.input) : a.output;
   auto t0 = std::chrono::steady_clock::now();
   if (opt.progress) opt.progress("writing");
+  froth::OutputGroup outputs;  // the mesh and its report appear together, or neither
   froth::write_vtu(mesh, run, output);
   double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
   if (!a.report.empty()) froth::write_report_json(run, a.report);
+  outputs.commit();
   run.stages.pop_back();
   print_summary(run, output, write_seconds);
   return 0;
@@ -269,7 +272,8 @@ struct World {
 struct EnsembleArgs {
   std::string input, dir;
   double r = 0, weld = -1;
-  uint64_t seed = 0;
+  std::string seed_text = "0";
+  uint64_t seed = 0;  // parsed from seed_text (cli_guards)
   size_t members = 0;
   int threads = 0;
   bool no_quality = false;
@@ -277,6 +281,7 @@ struct EnsembleArgs {
   bool repair = false;
   bool grade = false;
   double min_r = 0, max_grading = 0.2;
+  double max_memory_gb = 0;
 };
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
@@ -289,6 +294,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.members = a.members;
   opt.quality = !a.no_quality;
   opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
+  opt.max_memory_bytes = a.max_memory_gb * 1e9;
   opt.threads = a.threads;
   opt.dir = a.dir;
   opt.command = command;
@@ -350,6 +356,7 @@ void draw_plots(const std::string& json, const std::string& dir) {
 }
 
 int run_quality(const QualityArgs& a) {
+  froth_cli::refuse_same_files({{"the mesh", a.input}, {"--json", a.json}, {"--plots", a.plots}});
   if (a.threads > 0) omp_set_num_threads(a.threads);
   froth::PolyMesh mesh = froth::read_vtu(a.input);
   const froth::MeshCheck check = froth::check_mesh(mesh);
@@ -392,6 +399,9 @@ static int run_partitioned(const MeshArgs& a, const World& world) {
   } catch (const froth::Error& e) {
     fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
     code = e.exit_code();
+  } catch (const std::filesystem::filesystem_error& e) {
+    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
+    code = 4;
   } catch (const std::exception& e) {
     fmt::print(stderr, "froth: internal error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "",
                e.what());
@@ -412,14 +422,16 @@ int froth_main(int argc, char** argv, const World& world) {
   mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
   mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
       ->required();
-  mesh->add_option("--seed", a.seed, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")
-      ->check(kNonNegativeSeed);
+  mesh->add_option("--seed", a.seed_text, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)");
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
   mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 min(r, the domain's diagonal); 0 = off)")
       ->check(CLI::NonNegativeNumber);
   mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
+  mesh->add_option("--max-memory", a.max_memory_gb,
+                   "refuse a run estimated to need more than this many GB (default: the memory available)")
+      ->check(CLI::PositiveNumber);
   mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
   mesh->add_option("--feature-angle", a.feature_angle,
                    "input edges turning by more than this many degrees are features (default 30)");
@@ -438,12 +450,13 @@ int froth_main(int argc, char** argv, const World& world) {
   ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
   ensemble->add_option("-r,--radius", ea.r, "sampling radius r")->required();
   ensemble->add_option("-n,--members", ea.members, "number of members")->required()->check(CLI::Range(1, 1000000));
-  ensemble->add_option("--seed", ea.seed, "ensemble seed S; member k has seed froth::member_seed(S, k)")
-      ->check(kNonNegativeSeed);
+  ensemble->add_option("--seed", ea.seed_text, "ensemble seed S; member k has seed froth::member_seed(S, k)");
   ensemble->add_option("-o,--output", ea.dir, "output directory")->required();
   ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 min(r, the domain's diagonal); 0 = off)")->check(CLI::NonNegativeNumber);
   ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
   ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
+  ensemble->add_option("--max-memory", ea.max_memory_gb, "refuse members estimated to need more GB (default: available)")
+      ->check(CLI::PositiveNumber);
   ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
   ensemble->add_flag("--repair", ea.repair, "reorient inconsistently wound shells (reported)");
   ensemble->add_flag("--grade", ea.grade, "grade the radius to thin walls and gaps, as for froth mesh (experimental)");
@@ -465,33 +478,27 @@ int froth_main(int argc, char** argv, const World& world) {
   if (ensemble->parsed()) {
     std::string command;
     for (int i = 0; i < argc; ++i) command += (i ? " " : "") + std::string(argv[i]);
-    try {
+    return froth_cli::run_with_exit_codes([&] {
+      ea.seed = froth_cli::parse_seed(ea.seed_text);
       return run_ensemble(ea, command, world);
-    } catch (const froth::Error& e) {
-      fmt::print(stderr, "froth: error: {}\n", e.what());
-      return e.exit_code();
-    }
+    });
   }
-  if (mesh->parsed() && a.partition) return run_partitioned(a, world);
+  if (mesh->parsed()) {
+    if (const int code = froth_cli::run_with_exit_codes([&] { return a.seed = froth_cli::parse_seed(a.seed_text), 0; }))
+      return code;
+    if (a.partition) return run_partitioned(a, world);
+  }
   // Otherwise one mesh is made by one process.
   if (world.rank != 0) return 0;
-  try {
+  return froth_cli::run_with_exit_codes([&] {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
-  } catch (const froth::Error& e) {
-    fmt::print(stderr, "froth: error: {}\n", e.what());
-    return e.exit_code();
-  } catch (const std::bad_alloc&) {
-    fmt::print(stderr, "froth: error: out of memory\n");
-    return 5;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "froth: internal error: {}\n", e.what());
-    return 5;
-  }
-  return 2;
+    return 2;
+  });
 }
 
 int main(int argc, char** argv) {
+  froth::remove_temporaries_on_signal();
   World world;
 #ifdef FROTH_MPI
   MPI_Init(&argc, &argv);

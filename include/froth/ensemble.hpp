@@ -21,6 +21,7 @@ struct EnsembleOptions {
   double weld = 0;         // absolute tolerance, as for MeshOptions
   bool quality = true;
   bool grade = false;       // as MeshOptions: a radius graded to thin walls and gaps
+  double max_memory_bytes = 0;  // as MeshOptions: a member estimated above it is refused
   double min_r = 0, grading = 0.2;
   int threads = 0;
   std::filesystem::path dir;

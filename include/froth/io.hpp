@@ -2,6 +2,7 @@
 #pragma once
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "froth/mesh.hpp"
@@ -22,6 +23,27 @@ void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const
 // seeds come from the "seed" cell data, else each cell's vertex mean; kinds from "kind", else
 // fringe where a cell has a border face. Throws Error (Io, InvalidInput).
 PolyMesh read_vtu(const std::filesystem::path& path);
+
+// While one is alive (on this thread), the writers leave each finished file under its temporary
+// name; commit() renames them all into place, and a group destroyed before then removes them:
+// outputs that belong together (a mesh and its report) appear together or not at all.
+class OutputGroup {
+ public:
+  OutputGroup();
+  ~OutputGroup();
+  OutputGroup(const OutputGroup&) = delete;
+  OutputGroup& operator=(const OutputGroup&) = delete;
+  void commit();
+  void defer(const std::filesystem::path& tmp, const std::filesystem::path& target);  // (the writers' part)
+
+ private:
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> pending_;
+  OutputGroup* outer_;
+};
+
+// SIGINT, SIGTERM and SIGHUP remove the temporary files being written and end the process with
+// 128 + the signal's number (the command line installs this; a library user may not want it).
+void remove_temporaries_on_signal();
 
 struct QualityReport;
 // A quality report on its own (froth quality), for the mesh file named.

@@ -106,9 +106,13 @@ struct MeshOptions {
   bool quality = false;      // measure every cell (mesh.quality, report.quality)
   std::function<void(const std::string& stage)> progress;  // told when a stage starts
   // A radius graded to the input's thin walls and gaps (sampling/sizing.hpp): h(x) <= r, at
-  // least min_r (0: the default, r/4 or above: sampling/sizing.hpp), with slope `grading` along the sizing grid. Off: h = r everywhere.
+  // least min_r (0: the default, r/4 or above: sampling/sizing.hpp), with slope `grading` along
+  // the sizing grid. Off: h = r everywhere.
   bool grade = false;
   double min_r = 0, grading = 0.2;
+  // A run whose estimated memory is above this is refused before it starts; 0: the machine's
+  // available memory.
+  double max_memory_bytes = 0;
 };
 
 struct StageTiming {
@@ -209,6 +213,20 @@ struct RunReport {
 
 // The process's peak resident memory so far (Linux VmHWM), in bytes.
 size_t peak_rss_bytes();
+
+// What a run of `options` on `domain` needs, estimated before it starts: the cells of a
+// saturated sample (paper §3.3's density, with the surface's fringe) and the bytes they take.
+struct RunEstimate {
+  double cells = 0, bytes = 0;
+};
+RunEstimate estimate_run(const Domain& domain, const MeshOptions& options);
+
+// Throws Error(Usage) for options that cannot give a mesh of the domain: r or the weld out of
+// range, a domain or r outside the scales froth computes in, a domain thinner than 1e-6 r, a
+// grid of more than 2e9 cubes, or more memory than max_memory_bytes (with the estimate and an r
+// that fits) for the `share` of the mesh this process holds. generate_mesh calls it; froth
+// ensemble before it creates its folder.
+void check_mesh_options(const Domain& domain, const MeshOptions& options, double share = 1);
 
 // The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
 PolyMesh generate_mesh(const Domain& domain, const MeshOptions& options, RunReport* report);

@@ -95,6 +95,14 @@ uint64_t member_seed(uint64_t seed, size_t k) {
 std::string member_file(size_t k) { return fmt::format("member_{:05d}.vtu", k); }
 
 EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {
+  {
+    MeshOptions mo;  // a member's options, checked before the folder is made
+    mo.r = opt.r, mo.weld = opt.weld, mo.grade = opt.grade, mo.max_memory_bytes = opt.max_memory_bytes;
+    check_mesh_options(domain, mo);
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(opt.dir, ec) && !std::filesystem::is_directory(opt.dir, ec))
+    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; give -o a folder for the ensemble", opt.dir.string()));
   std::filesystem::create_directories(opt.dir);
   // A killed run can leave a member's temporary file (member_00002.vtu.tmp1234) behind: it was
   // never renamed into place, so it is not a member; remove such leftovers of this rank's members.
@@ -121,6 +129,7 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
     mo.threads = opt.threads;
     mo.quality = opt.quality;
     mo.grade = opt.grade, mo.min_r = opt.min_r, mo.grading = opt.grading;
+    mo.max_memory_bytes = opt.max_memory_bytes;
     RunReport run;
     PolyMesh mesh;
     // One member that cannot be meshed (froth's fault, or an r its sample cannot use) does not

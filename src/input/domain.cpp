@@ -306,6 +306,9 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
     return d;
   }
   std::filesystem::path path(input);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a surface file (STL, OFF, OBJ or PLY)", input));
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   TriangleSurface surface;

@@ -1,6 +1,13 @@
 #include "io/atomic_file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <atomic>
+#include <cstring>
+#include <mutex>
 
 #include <fmt/format.h>
 
@@ -9,6 +16,37 @@
 namespace froth {
 
 namespace {
+
+// The temporary files being written, for the signal handler: fixed slots of plain characters,
+// each claimed and released atomically, since a handler may only read memory and unlink.
+constexpr size_t kSlots = 64, kPathBytes = 4096;
+std::array<std::array<char, kPathBytes>, kSlots> g_tmp_paths;
+std::array<std::atomic<int>, kSlots> g_tmp_used{};
+
+int register_temporary(const std::filesystem::path& tmp) {
+  const std::string s = tmp.string();
+  if (s.size() >= kPathBytes) return -1;
+  for (size_t k = 0; k < kSlots; ++k) {
+    int expected = 0;
+    if (!g_tmp_used[k].compare_exchange_strong(expected, 2)) continue;  // 2: being filled in
+    std::memcpy(g_tmp_paths[k].data(), s.c_str(), s.size() + 1);
+    g_tmp_used[k].store(1);
+    return int(k);
+  }
+  return -1;
+}
+
+void release_temporary(int slot) {
+  if (slot >= 0) g_tmp_used[size_t(slot)].store(0);
+}
+
+extern "C" void remove_temporaries_and_exit(int sig) {
+  for (size_t k = 0; k < kSlots; ++k)
+    if (g_tmp_used[k].load() == 1) ::unlink(g_tmp_paths[k].data());
+  ::_exit(128 + sig);
+}
+
+thread_local OutputGroup* g_group = nullptr;
 
 // Devices and pipes (e.g. /dev/null, /dev/stdout) are written in place: renaming a file over
 // them would replace the device.
@@ -20,6 +58,38 @@ void write_in_place(const std::filesystem::path& path, const std::function<void(
   if (!out) fail(ErrorKind::Io, fmt::format("{}: write failed", path.string()));
 }
 
+void rename_into_place(const std::filesystem::path& tmp, const std::filesystem::path& path) {
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    fail(ErrorKind::Io, fmt::format("{}: cannot rename the finished file into place", path.string()));
+  }
+}
+
+// The temporaries registered for the signal handler, by path.
+std::mutex g_registered_mutex;
+std::vector<std::pair<std::filesystem::path, int>>& registered() {
+  static std::vector<std::pair<std::filesystem::path, int>> slots;
+  return slots;
+}
+
+void remember(const std::filesystem::path& tmp) {
+  std::lock_guard<std::mutex> lock(g_registered_mutex);
+  remember(tmp);
+}
+
+void forget(const std::filesystem::path& tmp) {
+  std::lock_guard<std::mutex> lock(g_registered_mutex);
+  auto& slots = registered();
+  for (size_t k = 0; k < slots.size(); ++k)
+    if (slots[k].first == tmp) {
+      release_temporary(slots[k].second);
+      slots.erase(slots.begin() + std::ptrdiff_t(k));
+      return;
+    }
+}
+
 }  // namespace
 
 void write_atomically(const std::filesystem::path& requested, const std::function<void(std::ostream&)>& write) {
@@ -29,32 +99,69 @@ void write_atomically(const std::filesystem::path& requested, const std::functio
                                                                           : requested;
   if (ec) path = requested;
   const auto status = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(status) && std::filesystem::is_directory(status))
+    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a file to write", path.string()));
   if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
     return write_in_place(path, write);
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp{}", ::getpid());
+  registered().push_back({tmp, register_temporary(tmp)});
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail(ErrorKind::Io, fmt::format("{}: cannot open for writing", tmp.string()));
+    if (!out) {
+      const int err = errno;
+      forget(tmp);
+      fail(ErrorKind::Io, fmt::format("{}: cannot write there ({})", path.string(), std::strerror(err)));
+    }
     try {
       write(out);
     } catch (...) {
       out.close();
       std::filesystem::remove(tmp, ec);
+      forget(tmp);
       throw;
     }
     out.flush();
     if (!out) {
       out.close();
       std::filesystem::remove(tmp, ec);
+      forget(tmp);
       fail(ErrorKind::Io, fmt::format("{}: write failed (disk full?)", path.string()));
     }
   }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
+  if (g_group) return g_group->defer(tmp, path);
+  rename_into_place(tmp, path);
+  forget(tmp);
+}
+
+OutputGroup::OutputGroup() : outer_(g_group) { g_group = this; }
+
+OutputGroup::~OutputGroup() {
+  g_group = outer_;
+  std::error_code ec;
+  for (const auto& [tmp, target] : pending_) {
     std::filesystem::remove(tmp, ec);
-    fail(ErrorKind::Io, fmt::format("{}: cannot rename the finished file into place", path.string()));
+    forget(tmp);
   }
+}
+
+void OutputGroup::defer(const std::filesystem::path& tmp, const std::filesystem::path& target) {
+  pending_.push_back({tmp, target});
+}
+
+void OutputGroup::commit() {
+  for (const auto& [tmp, target] : pending_) {
+    rename_into_place(tmp, target);
+    forget(tmp);
+  }
+  pending_.clear();
+}
+
+void remove_temporaries_on_signal() {
+  struct sigaction sa {};
+  sa.sa_handler = remove_temporaries_and_exit;
+  sigemptyset(&sa.sa_mask);
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
 }
 
 }  // namespace froth

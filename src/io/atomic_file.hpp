@@ -7,6 +7,8 @@
 #include <fstream>
 #include <functional>
 
+#include "froth/io.hpp"
+
 namespace froth {
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);

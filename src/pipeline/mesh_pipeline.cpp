@@ -63,16 +63,9 @@ class Stopwatch {
 };
 
 // Checks the options and fills the report's description of the run.
-void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run) {
-  if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
-  if (!(opt.weld >= 0) || !(opt.weld < opt.r))
-    fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {}", opt.weld));
-  const double side = opt.r / std::sqrt(3.0);
-  const Vec3 size = domain.bounds.size();
-  const double cubes = BackgroundGrid::cubes_along(size.x, side) * BackgroundGrid::cubes_along(size.y, side) *
-                       BackgroundGrid::cubes_along(size.z, side);
-  if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
-    fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
+// `share`: the part of the mesh this process holds (a partitioned run's rank: 1 / ranks).
+void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run, double share = 1) {
+  check_mesh_options(domain, opt, share);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   run.domain = domain.description;
   run.r = opt.r;
@@ -286,7 +279,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   RunReport& run = report ? *report : local_run;
   PartitionReport local_part;
   PartitionReport& part = partition ? *partition : local_part;
-  start_run(domain, opt, run);
+  start_run(domain, opt, run, 1.0 / comm.size());
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
   const SizingField sizing = sizing_field(domain, fs, opt, run, watch);

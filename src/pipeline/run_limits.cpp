@@ -1,0 +1,86 @@
+// What a run can be asked to do: options checked, and memory estimated, before any work.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "common/background_grid.hpp"
+#include "froth/error.hpp"
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+namespace {
+
+// Bytes per cell at the run's peak (docs/performance.md: under 1 KiB per cell from 10^5 cells
+// up, with the quality stage), and per background cube (the seed index and the sampler's lists).
+constexpr double kBytesPerCell = 1024, kBytesPerCube = 8;
+
+// MemAvailable from /proc/meminfo, else the physical memory; 0 if neither is known.
+double available_memory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (in >> key >> kib) {
+    if (key == "MemAvailable:") return kib * 1024;
+    in.ignore(1 << 20, '\n');
+  }
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? double(pages) * double(page) : 0;
+}
+
+double background_cubes(const Domain& domain, double r) {
+  const double side = r / std::sqrt(3.0);
+  const Vec3 size = domain.bounds.size();
+  return BackgroundGrid::cubes_along(size.x, side) * BackgroundGrid::cubes_along(size.y, side) *
+         BackgroundGrid::cubes_along(size.z, side);
+}
+
+}  // namespace
+
+RunEstimate estimate_run(const Domain& domain, const MeshOptions& opt) {
+  // Saturated RSA packs disks of radius r/2 at 0.3841 of the volume they reach: the domain grown
+  // by r/2 (sizing.cpp's estimate, here for h = r); grading can triple it (its default budget).
+  const double r = opt.r;
+  const double cells = 0.7336 * (domain.volume + domain.surface_area * r / 2) / (r * r * r) * (opt.grade ? 3 : 1);
+  return {cells, kBytesPerCell * cells + kBytesPerCube * background_cubes(domain, r)};
+}
+
+void check_mesh_options(const Domain& domain, const MeshOptions& opt, double share) {
+  if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
+  if (!(opt.weld >= 0) || !(opt.weld < opt.r))
+    fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {:.6g}", opt.weld));
+  // Squared distances of coordinates and radii must stay far from underflow and overflow.
+  const Vec3 size = domain.bounds.size();
+  const double extent = std::max({size.x, size.y, size.z});
+  if (!(extent >= 1e-100 && extent <= 1e100) || !(opt.r >= 1e-100 && opt.r <= 1e100))
+    fail(ErrorKind::Usage, fmt::format("scale out of range: the domain is {:.3g} across and r = {:.3g}; froth "
+                                       "computes with both in [1e-100, 1e100] (rescale the input's units)",
+                                       extent, opt.r));
+  const int thin = size.x <= std::min(size.y, size.z) ? 0 : (size.y <= size.z ? 1 : 2);
+  if (size[thin] < 1e-6 * opt.r)
+    fail(ErrorKind::Usage,
+         fmt::format("the domain is {:.3g} thick along {} ({:.3g} r): cells a million times wider than thick are no "
+                     "mesh, and the sampler would refine without end; use r below {:.3g}",
+                     size[thin], "xyz"[thin], size[thin] / opt.r, 1e6 * size[thin]));
+  const double cubes = background_cubes(domain, opt.r);
+  if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
+    fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
+  const double limit = opt.max_memory_bytes > 0 ? opt.max_memory_bytes : available_memory();
+  RunEstimate e = estimate_run(domain, opt);
+  e.bytes *= share, e.cells *= share;
+  if (limit > 0 && e.bytes > limit) {
+    const double fits = opt.r * std::cbrt(e.bytes / limit) * 1.05;
+    fail(ErrorKind::Usage,
+         fmt::format("r = {} needs about {:.3g} GB ({:.3g} cells) and {:.3g} GB is available{}: use r of {:.3g} or more, "
+                     "or a machine with more memory (froth mesh --partition spreads one mesh over several)",
+                     opt.r, e.bytes / 1e9, e.cells, limit / 1e9, opt.max_memory_bytes > 0 ? " (--max-memory)" : "",
+                     fits));
+  }
+}
+
+}  // namespace froth

@@ -1,0 +1,105 @@
+"""Hostile use of the command line (issue 25's table): each row an exit code and what must be
+left on disk. Self-contained: made shapes and box specs only. Run with Debian's /usr/bin/python3."""
+import glob
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+FROTH = os.path.abspath(sys.argv[1])
+tmp = tempfile.mkdtemp()
+failures, passed = [], 0
+
+
+def froth(*args, **kw):
+    return subprocess.run([FROTH, *args], capture_output=True, text=True, cwd=tmp, **kw)
+
+
+def row(what, p, code, message=None, absent=(), present=()):
+    """Exit `code`, stderr containing `message`, the files `absent` gone and `present` kept."""
+    global passed
+    problems = []
+    if p.returncode != code:
+        problems.append(f"exit {p.returncode}, expected {code}")
+    if message and message not in p.stderr:
+        problems.append(f"stderr lacks {message!r}: {p.stderr.strip()[:300]}")
+    for pattern in absent:
+        if glob.glob(os.path.join(tmp, pattern)):
+            problems.append(f"{pattern} left behind")
+    for name, content in present:
+        if open(os.path.join(tmp, name), "rb").read() != content:
+            problems.append(f"{name} was changed")
+    if problems:
+        failures.append(f"{what}: {'; '.join(problems)}")
+    else:
+        passed += 1
+
+
+cube = b"OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n" \
+       b"4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n"
+open(os.path.join(tmp, "in.off"), "wb").write(cube)
+
+# Data loss: an output that is the input or another output.
+row("-o onto the input", froth("mesh", "in.off", "-r", "0.3", "-o", "in.off"), 2, "same file", present=[("in.off", cube)])
+row("--report onto the input", froth("mesh", "in.off", "-r", "0.3", "--report", "in.off"), 2, "same file",
+    absent=["in.vtu"], present=[("in.off", cube)])
+row("--report onto -o", froth("mesh", "in.off", "-r", "0.3", "-o", "m.vtu", "--report", "m.vtu"), 2, "same file",
+    absent=["m.vtu*"])
+p = froth("mesh", "in.off", "-r", "0.3", "-o", "m.vtu")
+mesh = open(os.path.join(tmp, "m.vtu"), "rb").read() if p.returncode == 0 else b""
+row("quality --json onto its mesh", froth("quality", "m.vtu", "--json", "m.vtu"), 2, "same file",
+    present=[("m.vtu", mesh)])
+# A report that cannot be written: no mesh either.
+row("--report unwritable", froth("mesh", "in.off", "-r", "0.3", "-o", "n.vtu", "--report", "/nonexistent/r.json"), 4,
+    "/nonexistent/r.json", absent=["n.vtu*"])
+
+# Arguments that do not mean what they say.
+row("--seed 2^64", froth("mesh", "in.off", "-r", "0.3", "--seed", "18446744073709551616"), 2, "--seed", absent=["in.vtu"])
+row("--seed -1", froth("mesh", "in.off", "-r", "0.3", "--seed", "-1"), 2, "--seed", absent=["in.vtu"])
+row("scale out of range", froth("mesh", "box:0,0,0,1e-300,1e-300,1e-300", "-r", "1e-301"), 2, "scale out of range",
+    absent=["box.vtu"])
+t0 = time.time()
+row("box thinner than 1e-6 r", froth("mesh", "box:0,0,0,1,1,1e-12", "-r", "0.1", timeout=60), 2, "thick along z",
+    absent=["box.vtu"])
+if time.time() - t0 > 10:
+    failures.append("box thinner than 1e-6 r: not refused at once")
+row("more memory than the machine has", froth("mesh", "box:0,0,0,1,1,1", "-r", "0.0014", timeout=60), 2, "GB",
+    absent=["box.vtu"])
+os.mkdir(os.path.join(tmp, "adir.stl"))
+row("input is a directory", froth("mesh", "adir.stl", "-r", "0.3"), 4, "is a directory")
+
+# Ensembles: onto a file, and a usage error, leave nothing new.
+open(os.path.join(tmp, "afile"), "w").write("x")
+row("ensemble -o onto a file", froth("ensemble", "in.off", "-r", "0.3", "-n", "2", "-o", "afile"), 4, "not a folder",
+    present=[("afile", b"x")])
+row("ensemble with r = 0", froth("ensemble", "in.off", "-r", "0", "-n", "2", "-o", "ens"), 2, "r must be positive",
+    absent=["ens"])
+
+# Signals while writing: the temporary file is removed, the exit code is 128 + the signal.
+for sig in (signal.SIGINT, signal.SIGTERM):
+    proc = subprocess.Popen([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.012", "--no-quality", "-o", "big.vtu"],
+                            cwd=tmp, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline, seen = time.time() + 120, False
+    while time.time() < deadline and proc.poll() is None and not seen:
+        seen = bool(glob.glob(os.path.join(tmp, "big.vtu.tmp*")))
+        time.sleep(0.002)
+    proc.send_signal(sig)
+    code = proc.wait()
+    left = glob.glob(os.path.join(tmp, "big.vtu*"))
+    if not seen:
+        print(f"note: {sig.name}: the temporary file was not seen before the run ended")
+    if seen and (code != 128 + sig or left):
+        failures.append(f"{sig.name} while writing: exit {code}, left {left}")
+    else:
+        passed += 1
+    for f in left:
+        os.remove(f)
+
+shutil.rmtree(tmp)
+for f in failures:
+    print("FAIL:", f)
+print(f"{'FAILED' if failures else 'passed'}: {passed} hostile-input checks")
+sys.exit(1 if failures else 0)
