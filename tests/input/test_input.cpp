@@ -1,6 +1,8 @@
 // Input: STL reading, convexity validation and the errors bad input gets.
 #include <gtest/gtest.h>
 
+#include <bit>
+
 #include <fstream>
 #include <set>
 
@@ -153,6 +155,71 @@ TEST(Input, BoxSpecs) {
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,1,2"); }), ErrorKind::Usage);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,-1,2,3"); }), ErrorKind::Usage);
   EXPECT_EQ(error_kind_of([] { parse_box_spec("box:0,0,0,1,2,3,4"); }), ErrorKind::Usage);
+}
+
+// Hostile polygon files (issue 25: CGAL 5.5's readers crashed or allocated gigabytes on these):
+// each is refused as invalid input with a message, at once, or read as what it is.
+TEST(Input, HostilePolygonFilesAreRefusedOrRead) {
+  const std::string dir = testing::TempDir();
+  struct Case {
+    const char* name;
+    std::string bytes;
+    const char* message;  // nullptr: reads as the unit cube's surface would (8 vertices)
+  };
+  const std::string cube_vertices = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n";
+  const std::string cube_faces = "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 2 3 7 6\n4 1 2 6 5\n4 0 4 7 3\n";
+  const std::vector<Case> cases = {
+      {"property_first.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n", "a property before any element"},
+      {"negative.ply", "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\nend_header\n", "negative"},
+      {"huge_count.off", "OFF\n3 69900000 0\n0 0 0\n1 0 0\n0 1 0\n", "more than its"},
+      {"coff_word.off", "COFF\n8 6 0\n0 0 0 255 0 0\nx y z\n" + cube_vertices + cube_faces, "is not a number"},
+      {"short_list.ply", "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+                         "end_header\n\xff",
+       "a list of"},
+      {"truncated.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 8\nproperty double x\nproperty double y\n"
+                        "property double z\nend_header\n\x01\x02",
+       "more than its"},
+      {"index0.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "vertex index 0"},
+      {"int_coords.ply", "ply\nformat ascii 1.0\nelement vertex 8\nproperty int x\nproperty int y\nproperty int z\n"
+                         "element face 6\nproperty list uchar int vertex_indices\nend_header\n" + cube_vertices + cube_faces,
+       nullptr},
+      {"coff.off", "COFF\n8 6 0\n" + [&] {
+         std::string v;
+         for (const char* line : {"0 0 0", "1 0 0", "1 1 0", "0 1 0", "0 0 1", "1 0 1", "1 1 1", "0 1 1"})
+           v += std::string(line) + " 200 10 10 255\n";
+         return v;
+       }() + cube_faces,
+       nullptr},
+  };
+  for (const Case& c : cases) {
+    const std::string path = dir + "/" + c.name;
+    std::ofstream(path, std::ios::binary) << c.bytes;
+    if (c.message) {
+      EXPECT_EQ(error_kind_of([&] { load_domain(path); }), ErrorKind::InvalidInput) << c.name;
+      EXPECT_NE(error_text_of([&] { load_domain(path); }).find(c.message), std::string::npos)
+          << c.name << ": " << error_text_of([&] { load_domain(path); });
+    } else {
+      const Domain d = load_domain(path);
+      EXPECT_EQ(d.surface.vertices.size(), 8u) << c.name;
+      EXPECT_NEAR(d.volume, 1.0, 1e-12) << c.name;
+    }
+  }
+  // The same cube as a big-endian binary PLY.
+  std::string be = "ply\nformat binary_big_endian 1.0\nelement vertex 8\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 6\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put_be = [&](uint32_t u, int bytes) {
+    for (int k = bytes - 1; k >= 0; --k) be.push_back(char(u >> (8 * k) & 0xff));
+  };
+  const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  for (const auto& v : corners)
+    for (float x : v) put_be(std::bit_cast<uint32_t>(x), 4);
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  for (const auto& q : quads) {
+    put_be(4, 1);
+    for (int i : q) put_be(uint32_t(i), 4);
+  }
+  std::ofstream(dir + "/cube_be.ply", std::ios::binary) << be;
+  EXPECT_NEAR(load_domain(dir + "/cube_be.ply").volume, 1.0, 1e-12);
 }
 
 }  // namespace
