@@ -104,8 +104,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   // plane its members are on: it keeps its place, so the domain's features stay where they
   // are), and merge again without them, until no cluster is refused.
   UnionFind uf(m.points.size());
-  std::vector<int32_t> cyc, sorted;
-  EdgeUses closure;
+  std::vector<int32_t> cyc, sorted, root(m.points.size(), 0);
   // Per cluster root, the vertex on the most border planes (the smallest id on a tie): it
   // keeps its place.
   struct Keeper {
@@ -144,15 +143,29 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     }
     // A cell that would no longer close (a cluster spanning a cell thinner than w folds its
     // faces onto each other: a domain whose details are below w) keeps all its vertices.
+    // In parallel over the cells, from the clusters' roots found once (find compresses paths).
     if (!pinched) {
-      for (size_t c : cells) {
-        closure.clear();
-        for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-          collapsed(m, f, [&](int32_t v) { return uf.find(v); }, cyc);
-          for (size_t k = 0; cyc.size() >= 3 && k < cyc.size(); ++k)
-            closure.add(uint32_t(cyc[k]), uint32_t(cyc[(k + 1) % cyc.size()]));
+      for (auto [u, v] : short_edges) root[u] = uf.find(u), root[v] = uf.find(v);
+      std::vector<uint8_t> open_cell(cells.size(), 0);
+#pragma omp parallel
+      {
+        EdgeUses closure;
+        std::vector<int32_t> face;
+#pragma omp for schedule(dynamic, 64)
+        for (size_t i = 0; i < cells.size(); ++i) {
+          const size_t c = cells[i];
+          closure.clear();
+          for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+            collapsed(m, f, [&](int32_t v) { return member[v] ? root[v] : v; }, face);
+            for (size_t k = 0; face.size() >= 3 && k < face.size(); ++k)
+              closure.add(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()]));
+          }
+          open_cell[i] = !closure.each_once_each_way();
         }
-        if (closure.each_once_each_way()) continue;
+      }
+      for (size_t i = 0; i < cells.size(); ++i) {
+        if (!open_cell[i]) continue;
+        const size_t c = cells[i];
         for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
           if (member[m.face_vertices[k]]) refused[m.face_vertices[k]] = 1;
         pinched = true;
