@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -26,7 +27,7 @@ namespace {
 
 struct MeshArgs {
   std::string input;
-  double r = 0;
+  double r = -INFINITY;  // -INFINITY: not given
   std::string seed_text = "0";
   uint64_t seed = 0;  // parsed from seed_text (cli_guards)
   std::string output;
@@ -40,6 +41,8 @@ struct MeshArgs {
   bool grade = false;
   double min_r = 0, max_grading = 0.2;
   double max_memory_gb = 0;  // 0: the machine's available memory
+  double cells = 0;           // --cells: choose r for about this many (0: -r given)
+  bool dry_run = false;
 };
 
 std::string default_output(const std::string& input) {
@@ -136,11 +139,13 @@ void print_summary(const froth::RunReport& run, const std::string& output, doubl
   std::string times;
   for (const auto& st : run.stages) times += fmt::format("{} {:.3f} s, ", st.stage, st.seconds);
   fmt::print(
-      "froth: meshed {} with r = {} and seed {}: {} cells ({} interior, {} fringe, {} edge, {} vertex) from {} seeds, "
+      "froth: meshed {} with r = {}{} and seed {}: {} cells ({} interior, {} fringe, {} edge, {} vertex) from {} seeds, "
       "{} faces, {} points; every interior face matched, every cell closed. Volume: cells sum {:.12g}, domain "
       "{:.12g} (relative error {:.2e}). Sampling: {} darts, {} refinement levels, maximal.{} Time: {}writing {:.3f} "
       "s; total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
-      run.domain, run.r, run.seed, run.cells, run.interior_cells, run.fringe_cells, run.edge_cells, run.vertex_cells,
+      run.domain, run.r,
+      run.cells_requested > 0 ? fmt::format(" (chosen for about {:.6g} cells)", run.cells_requested) : "", run.seed,
+      run.cells, run.interior_cells, run.fringe_cells, run.edge_cells, run.vertex_cells,
       run.sampling.seeds, run.faces,
       run.points, run.volume_sum, run.domain_volume, run.volume_relative_error(), run.sampling.darts,
       run.sampling.levels, details_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
@@ -162,12 +167,38 @@ froth::MeshOptions mesh_options(const MeshArgs& a, const froth::Domain& domain, 
   return opt;
 }
 
-int run_mesh(const MeshArgs& a) {
-  const std::string output = a.output.empty() ? default_output(a.input) : a.output;
-  froth_cli::refuse_same_files({{"the input", a.input}, {"-o", output}, {"--report", a.report}});
-  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+// -r as given, or chosen for --cells (the summary says which).
+MeshArgs with_radius(const MeshArgs& given, const froth::Domain& domain) {
+  MeshArgs a = given;
+  if (a.cells > 0) a.r = froth::radius_for_cells(domain, a.cells, a.seed, !a.dry_run);
+  else if (a.r == -INFINITY) froth::fail(froth::ErrorKind::Usage, "give -r R (the sampling radius) or --cells N");
+  return a;
+}
+
+// --dry-run: what the run would take, from the saturated density (froth::estimate_run) and the
+// pipeline's time per cell on 2 threads (docs/performance.md: about 11 us for a box without the
+// quality stage, twice that with it; non-convex parts up to twice again).
+int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOptions& opt) {
+  const froth::RunEstimate e = froth::estimate_run(domain, opt);
+  const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();
+  const double seconds = e.cells * (opt.quality ? 22e-6 : 11e-6) * 2.0 / threads * (domain.convex ? 1 : 1.5);
+  fmt::print("froth: dry run for {} with r = {:.6g}{}: about {:.3g} cells, {:.3g} GB at the peak, {:.2g} s on {} thread{} "
+             "(rough: the density's estimate runs 3 to 25% above the cells sampling gives; --cells corrects r by a sample)\n",
+             a.input, opt.r, a.cells > 0 ? fmt::format(" (chosen for --cells {:.6g})", a.cells) : "", e.cells,
+             e.bytes / 1e9, seconds, threads, threads == 1 ? "" : "s");
+  froth::check_mesh_options(domain, opt);
+  return 0;
+}
+
+int run_mesh(const MeshArgs& given) {
+  const std::string output = given.output.empty() ? default_output(given.input) : given.output;
+  froth_cli::refuse_same_files({{"the input", given.input}, {"-o", output}, {"--report", given.report}});
+  froth::Domain domain = froth::load_domain(given.input, {given.feature_angle, given.repair});
+  const MeshArgs a = with_radius(given, domain);
   const froth::MeshOptions opt = mesh_options(a, domain, true);
+  if (a.dry_run) return dry_run(a, domain, opt);
   froth::RunReport run;
+  run.cells_requested = a.cells;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
   auto t0 = std::chrono::steady_clock::now();
   if (opt.progress) opt.progress("writing");
@@ -185,14 +216,16 @@ int run_mesh(const MeshArgs& a) {
 // One mesh over all ranks (froth/partition.hpp): each rank writes its piece,
 // OUT/OUT_<rank>.vtu beside OUT.pvtu, and rank 0 the .pvtu, the report and the summary once every
 // piece is written. A rank that fails while the others wait for it aborts the run.
-int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
-  std::filesystem::path output = a.output.empty() ? default_output(a.input) : a.output;
+int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
+  std::filesystem::path output = given.output.empty() ? default_output(given.input) : given.output;
   if (output.extension() == ".vtu") output.replace_extension(".pvtu");
   if (output.extension() != ".pvtu")
     froth::fail(froth::ErrorKind::Usage, fmt::format("--partition writes a .pvtu file, not {}", output.string()));
-  froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
+  froth::Domain domain = froth::load_domain(given.input, {given.feature_angle, given.repair});
+  const MeshArgs a = with_radius(given, domain);
   const froth::MeshOptions opt = mesh_options(a, domain, comm.rank() == 0);
   froth::RunReport run;
+  run.cells_requested = a.cells;
   froth::PartitionReport part;
   froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
 
@@ -420,8 +453,11 @@ int froth_main(int argc, char** argv, const World& world) {
   MeshArgs a;
   CLI::App* mesh = app.add_subcommand("mesh", "mesh a box or the solid a closed surface encloses with clipped Voronoi cells");
   mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
-  mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one")
-      ->required();
+  CLI::Option* radius =
+      mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one");
+  CLI::Option* cells = mesh->add_option("--cells", a.cells, "instead of -r: choose r for about this many cells (reported)");
+  radius->excludes(cells);
+  mesh->add_flag("--dry-run", a.dry_run, "print the estimated cells, memory and time, and stop");
   mesh->add_option("--seed", a.seed_text, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)");
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
   mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 min(r, the domain's diagonal); 0 = off)")

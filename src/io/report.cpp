@@ -24,6 +24,7 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"reflex_curves", f.reflex_curves}, {"corners", f.corners}};
   j["input"]["grade"] = run.grade;
   if (run.grade) j["input"]["min_r"] = run.min_r, j["input"]["max_grading"] = run.grading;
+  if (run.cells_requested > 0) j["input"]["cells_requested"] = run.cells_requested;
   j["input"]["convex"] = run.input.convex;
   j["input"]["triangles"] = run.input.triangles;
   j["input"]["shells"] = run.input.shells;

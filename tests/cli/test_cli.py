@@ -201,7 +201,7 @@ for args, code, words in [
     (["/nonexistent.stl", "-r", "0.1"], 4, "cannot open"),
     (["box:0,0,0,1,1", "-r", "0.1"], 2, "six finite numbers"),
     (["box:0,0,0,1,1,1", "-r", "-1"], 2, "r must be positive"),
-    (["box:0,0,0,1,1,1"], 2, "required"),
+    (["box:0,0,0,1,1,1"], 2, "--cells"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--seed", "-1"], 2, "not a whole number"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--threads", "-2"], 2, "not in range"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "0.5"], 2, "weld tolerance must be in [0, r)"),
@@ -282,6 +282,27 @@ if p.returncode == 0:
     check(sizing["floor_raised"] and 3.0585 / 4 < sizing["min_r"] < 3.0585 and sizing["estimated_cell_ratio"] <= 3,
           f"default floor: {sizing}")
     check(radius.min() >= sizing["min_r"] * (1 - 1e-6) and radius.max() <= 3.0585, f"radius {radius.min()} {radius.max()}")
+# --cells N chooses r for about N cells (within 5%), reports the r, and repeats with -r; a dry
+# run estimates without meshing; -r and --cells exclude each other, and one of them is needed.
+for domain, n in (("box:0,0,0,2,1,1", 5000), (os.path.join(MODELS, "1002_tray_bottom.STL"), 3000)):
+    out, rep = os.path.join(tmp, "cells.vtu"), os.path.join(tmp, "cells.json")
+    p = froth("mesh", domain, "--cells", str(n), "--seed", "4", "--no-quality", "-o", out, "--report", rep)
+    check(p.returncode == 0 and "chosen for about" in p.stdout, f"--cells {n}: {p.returncode} {p.stderr}")
+    if p.returncode == 0:
+        j = json.load(open(rep))
+        check(abs(j["mesh"]["cells"] / n - 1) <= 0.05 and j["input"]["cells_requested"] == n,
+              f"--cells {n} on {domain}: {j['mesh']['cells']} cells")
+        again = froth("mesh", domain, "-r", repr(j["input"]["r"]), "--seed", "4", "--no-quality", "-o",
+                      os.path.join(tmp, "again.vtu"))
+        check(again.returncode == 0 and open(out, "rb").read() == open(os.path.join(tmp, "again.vtu"), "rb").read(),
+              f"--cells {n}: -r {j['input']['r']} does not repeat the mesh")
+p = froth("mesh", "box:0,0,0,1,1,1", "--cells", "1e6", "--dry-run", "-o", os.path.join(tmp, "dry.vtu"))
+check(p.returncode == 0 and "about 1e+06 cells" in p.stdout and not os.path.exists(os.path.join(tmp, "dry.vtu")),
+      f"dry run: {p.returncode} {p.stdout} {p.stderr}")
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.2", "--cells", "100")
+check(p.returncode == 2, f"-r with --cells: exit {p.returncode}")
+p = froth("mesh", "box:0,0,0,1,1,1")
+check(p.returncode == 2 and "--cells" in p.stderr, f"neither -r nor --cells: exit {p.returncode} {p.stderr}")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", "/nonexistent-dir/x.vtu")
 check(p.returncode == 4, f"unwritable output: exit code {p.returncode}")
 # froth quality: the same report from froth's VTU as the run report; the same again from VTUs that
