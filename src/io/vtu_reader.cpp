@@ -124,6 +124,7 @@ class Reader {
 
  private:
   uint64_t header_word(const std::string& s, size_t i) const {
+    if (i >= s.size() / word()) bad(path_, "a data block's header is truncated");
     if (header64_) {
       uint64_t v;
       std::memcpy(&v, s.data() + 8 * i, 8);
@@ -143,6 +144,10 @@ class Reader {
     for (uint64_t b = 0; b < blocks; ++b) {
       const uint64_t csize = header_word(header, 3 + b);
       const uint64_t usize = (b + 1 == blocks && last != 0) ? last : block;
+      // zlib inflates at most 1032 to 1 (a count larger than the data can hold is a lie: a
+      // "zlib bomb" header would otherwise have froth allocate gigabytes).
+      if (csize > data.size() - std::min<size_t>(at, data.size()) || usize > 1032 * csize + 64)
+        bad(path_, fmt::format("a compressed data block claims {} bytes from {} (corrupt or hostile)", usize, csize));
       std::string buf(usize, '\0');
       uLongf len = uLongf(usize);
       if (at + csize > data.size() ||
@@ -163,12 +168,13 @@ class Reader {
       std::string all = base64_decode(text);
       if (all.size() < word()) bad(path_, "a binary data block is truncated");
       const uint64_t n = header_word(all, 0);
-      if (all.size() < word() + n) bad(path_, "a binary data block is shorter than its header says");
+      if (n > all.size() - word()) bad(path_, "a binary data block is shorter than its header says");
       return all.substr(word(), n);
     }
     // Compressed: the header is encoded on its own, then the data.
     std::string first = base64_decode(text.substr(0, std::min<size_t>(text.size(), 4 * ((3 * word() + 2) / 3))));
     const uint64_t blocks = header_word(first, 0);
+    if (blocks > text.size()) bad(path_, fmt::format("a binary data block declares {} compressed blocks", blocks));
     const size_t header_bytes = (3 + blocks) * word();
     const size_t header_chars = 4 * ((header_bytes + 2) / 3);
     const std::string header = base64_decode(text.substr(0, header_chars));
@@ -176,6 +182,8 @@ class Reader {
   }
 
   std::string appended_block(uint64_t offset) const {
+    if (appended_begin_ + offset > bytes_.size() || offset > bytes_.size())
+      bad(path_, "an appended offset points past the end of the file");
     if (appended_base64_) {
       // Offsets count base64 characters.
       std::string_view rest(bytes_.data() + appended_begin_ + offset, bytes_.size() - appended_begin_ - offset);
@@ -189,9 +197,13 @@ class Reader {
       return bytes_.substr(at + word(), n);
     }
     const uint64_t blocks = header_word(bytes_.substr(at, word()), 0);
+    if (blocks > bytes_.size()) bad(path_, fmt::format("an appended block declares {} compressed blocks", blocks));
     const std::string header = bytes_.substr(at, (3 + blocks) * word());
     uint64_t total = 0;
-    for (uint64_t b = 0; b < blocks; ++b) total += header_word(header, 3 + b);
+    for (uint64_t b = 0; b < blocks; ++b) {
+      total += header_word(header, 3 + b);
+      if (total > bytes_.size()) bad(path_, "an appended block's compressed sizes run past the end of the file");
+    }
     return inflate_blocks(header, bytes_.substr(at + header.size(), total));
   }
 
@@ -253,11 +265,12 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   for (size_t c = 0; c < nc; ++c) {
     const int64_t end = faceoffsets[c];
     if (end < at || end > int64_t(faces.size())) bad(path, fmt::format("cell {}: face offsets out of order", c));
+    if (at == end) bad(path, fmt::format("cell {}: an empty face stream", c));
     const int64_t nf = faces[at++];
     for (int64_t f = 0; f < nf; ++f) {
       if (at >= end) bad(path, fmt::format("cell {}: face stream shorter than its face count", c));
       const int64_t n = faces[at++];
-      if (n < 3 || at + n > end) bad(path, fmt::format("cell {} face {}: {} points", c, f, n));
+      if (n < 3 || n > end - at) bad(path, fmt::format("cell {} face {}: {} points", c, f, n));
       for (int64_t k = 0; k < n; ++k) {
         const int64_t v = faces[at++];
         if (v < 0 || v >= int64_t(np)) bad(path, fmt::format("cell {} face {}: point id {} out of range", c, f, v));

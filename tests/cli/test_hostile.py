@@ -78,6 +78,37 @@ row("ensemble -o onto a file", froth("ensemble", "in.off", "-r", "0.3", "-n", "2
 row("ensemble with r = 0", froth("ensemble", "in.off", "-r", "0", "-n", "2", "-o", "ens"), 2, "r must be positive",
     absent=["ens"])
 
+# Hostile VTUs for froth quality: VTK's zlib-compressed, appended raw encoding of a small froth
+# mesh, with its first block's header made to lie (a block count past the file; a block that
+# claims 2^31 bytes from a few hundred: a zlib bomb). Refused with exit 3, nothing allocated.
+import struct  # noqa: E402
+
+import vtk  # noqa: E402
+
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.4", "--no-quality", "-o", "small.vtu")
+reader = vtk.vtkXMLUnstructuredGridReader()
+reader.SetFileName(os.path.join(tmp, "small.vtu"))
+reader.Update()
+writer = vtk.vtkXMLUnstructuredGridWriter()
+writer.SetInputData(reader.GetOutput())
+writer.SetFileName(os.path.join(tmp, "zlib.vtu"))
+writer.SetCompressorTypeToZLib()
+writer.SetDataModeToAppended()
+writer.EncodeAppendedDataOff()
+writer.SetHeaderTypeToUInt64()
+writer.Write()
+data = open(os.path.join(tmp, "zlib.vtu"), "rb").read()
+start = data.index(b"<AppendedData encoding=\"raw\">")
+start = data.index(b"_", start) + 1  # the first array's block header: blocks, block size, last size, sizes
+blocks, block, last = struct.unpack_from("<QQQ", data, start)
+row("the zlib VTU as VTK wrote it", froth("quality", "zlib.vtu"), 0)
+for name, patch in (("block count past the file", struct.pack("<Q", 1 << 40)),
+                    ("zlib bomb", struct.pack("<QQQ", blocks, 1 << 31, 1 << 31))):
+    bad = bytearray(data)
+    bad[start:start + len(patch)] = patch
+    open(os.path.join(tmp, "bad.vtu"), "wb").write(bytes(bad))
+    row(f"VTU with a {name}", froth("quality", "bad.vtu"), 3)
+
 # Signals while writing: the temporary file is removed, the exit code is 128 + the signal.
 for sig in (signal.SIGINT, signal.SIGTERM):
     proc = subprocess.Popen([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.012", "--no-quality", "-o", "big.vtu"],
