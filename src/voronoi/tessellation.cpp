@@ -117,6 +117,47 @@ bool same_vertex(const int32_t* a, int32_t self, const int32_t* b, int32_t owner
   }
 }
 
+// Is the name a + {self} (sorted, len entries) inside the name b + {owner} (sorted, blen)? A
+// vertex where more seeds meet than a vertex's three faces need (seeds on one sphere: protection
+// seeds at equal distances on one planar face) is one vertex, named by all of them, in the cell
+// whose clipping found them within its tolerance, and two vertices a rounding error apart,
+// named by fewer, in another cell: both of those are that one vertex.
+bool inside_name(const int32_t* a, int32_t self, int len, const int32_t* b, int32_t owner, int blen) {
+  auto in_b = [&](int32_t g) { return g == owner || std::binary_search(b, b + blen, g); };
+  if (!in_b(self)) return false;
+  for (int i = 0; i < len; ++i)
+    if (!in_b(a[i])) return false;
+  return true;
+}
+
+// Drops each face's repeated consecutive vertices (cyclically) and the faces left with fewer
+// than three: where inside_name merged the two vertices of a degenerate one.
+void drop_repeated_vertices(PolyMesh& m) {
+  const size_t nc = m.cell_count();
+  int64_t face = 0, entry = 0;
+  for (size_t c = 0; c < nc; ++c) {
+    const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+    m.cell_face_begin[c] = face;
+    for (int64_t f = f0; f < f1; ++f) {
+      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1], start = entry;
+      for (int64_t k = b; k < e; ++k)
+        if (entry == start || m.face_vertices[entry - 1] != m.face_vertices[k]) m.face_vertices[entry++] = m.face_vertices[k];
+      while (entry - start > 1 && m.face_vertices[entry - 1] == m.face_vertices[start]) --entry;
+      if (entry - start < 3) {
+        entry = start;
+        continue;
+      }
+      m.face_generator[face] = m.face_generator[f];
+      m.face_vertex_begin[face++] = start;
+    }
+  }
+  m.cell_face_begin[nc] = face;
+  m.face_vertex_begin[face] = entry;
+  m.face_generator.resize(size_t(face));
+  m.face_vertex_begin.resize(size_t(face) + 1);
+  m.face_vertices.resize(size_t(entry));
+}
+
 struct Neighbour {
   double d2;
   int32_t seed;
@@ -451,7 +492,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   mesh.cell_face_begin[n] = chunk_face[nchunks];
   mesh.face_vertex_begin[chunk_face[nchunks]] = chunk_fv[nchunks];
 
-  std::atomic<size_t> unmatched{0};
+  std::atomic<size_t> unmatched{0}, merged_degenerate{0};
 #pragma omp parallel
   {
     std::vector<int32_t> gid;
@@ -491,6 +532,21 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
             }
             okb += olen;
           }
+          if (found < 0) {  // a degenerate vertex: the owner's one vertex whose name holds this one's
+            okb = oc.owned_key_begin[ok];
+            for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
+              const int olen = oc.owned_key_len[w];
+              if (olen > len && inside_name(key, i + first_seed, len, &oc.owned_keys[okb], owner + first_seed, olen)) {
+                if (found >= 0) {  // two such: no single one to take
+                  found = -1;
+                  break;
+                }
+                found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
+              }
+              okb += olen;
+            }
+            if (found >= 0) merged_degenerate.fetch_add(1, std::memory_order_relaxed);
+          }
           if (found < 0) unmatched.fetch_add(1, std::memory_order_relaxed);
           gid.push_back(std::max(found, 0));
         }
@@ -525,6 +581,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       split.push_back({k, p ? x + 1e-6 * r * p->inward : x, min_piece_volume});
     }
   split_pieces(mesh, split);
+  if (merged_degenerate > 0) drop_repeated_vertices(mesh);
   if (times) times->assembly = seconds_since(t0);
   return mesh;
 }

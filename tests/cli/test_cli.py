@@ -282,6 +282,15 @@ if p.returncode == 0:
     check(sizing["floor_raised"] and 3.0585 / 4 < sizing["min_r"] < 3.0585 and sizing["estimated_cell_ratio"] <= 3,
           f"default floor: {sizing}")
     check(radius.min() >= sizing["min_r"] * (1 - 1e-6) and radius.max() <= 3.0585, f"radius {radius.min()} {radius.max()}")
+# Five cospherical seeds (protection seeds on one planar face of ADIS16480): one cell names the
+# point where they meet as one vertex, its neighbours as two a rounding error apart; they are
+# one vertex (exit 5 "cell vertices are missing from the cell that owns them" before).
+rep = os.path.join(tmp, "cospherical.json")
+p = froth("mesh", os.path.join(MODELS, "ADIS16480.STL"), "-r", "0.017720980594367015", "--seed", "317", "--no-quality",
+          "-o", os.path.join(tmp, "cospherical.vtu"), "--report", rep)
+check(p.returncode == 0 and json.load(open(rep))["volume"]["relative_error"] < 1e-9,
+      f"cospherical seeds: exit {p.returncode} {p.stderr}")
+
 # --cells N chooses r for about N cells (within 5%), reports the r, and repeats with -r; a dry
 # run estimates without meshing; -r and --cells exclude each other, and one of them is needed.
 for domain, n in (("box:0,0,0,2,1,1", 5000), (os.path.join(MODELS, "1002_tray_bottom.STL"), 3000)):
