@@ -426,20 +426,15 @@ static int run_partitioned(const MeshArgs& a, const World& world) {
 #else
   froth_cli::SoloCommunicator comm;
 #endif
-  int code = 0;
-  try {
-    return run_mesh_partitioned(a, comm);
-  } catch (const froth::Error& e) {
-    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
-    code = e.exit_code();
-  } catch (const std::filesystem::filesystem_error& e) {
-    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
-    code = 4;
-  } catch (const std::exception& e) {
-    fmt::print(stderr, "froth: internal error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "",
-               e.what());
-    code = 5;
-  }
+  bool threw = true;
+  const int code = froth_cli::run_with_exit_codes(
+      [&] {
+        const int c = run_mesh_partitioned(a, comm);
+        threw = false;
+        return c;
+      },
+      world.size > 1 ? fmt::format(" (rank {})", world.rank) : "");
+  if (!threw) return code;
 #ifdef FROTH_MPI
   if (world.size > 1) MPI_Abort(MPI_COMM_WORLD, code);
 #endif

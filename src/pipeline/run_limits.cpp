@@ -12,6 +12,7 @@
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "sampling/mps.hpp"
+#include "sampling/sizing.hpp"
 
 namespace froth {
 
@@ -41,13 +42,18 @@ double background_cubes(const Domain& domain, double r) {
          BackgroundGrid::cubes_along(size.z, side);
 }
 
+// Saturated RSA packs disks of radius r/2 at 0.3841 of the volume they reach: the domain grown
+// by r/2 (sizing.cpp's estimate, here for h = r).
+double saturated_cells(const Domain& domain, double r) {
+  return 0.7336 * (domain.volume + domain.surface_area * r / 2) / (r * r * r);
+}
+
 }  // namespace
 
 RunEstimate estimate_run(const Domain& domain, const MeshOptions& opt) {
-  // Saturated RSA packs disks of radius r/2 at 0.3841 of the volume they reach: the domain grown
-  // by r/2 (sizing.cpp's estimate, here for h = r); grading can triple it (its default budget).
+  // Grading can add up to its default budget.
   const double r = opt.r;
-  const double cells = 0.7336 * (domain.volume + domain.surface_area * r / 2) / (r * r * r) * (opt.grade ? 3 : 1);
+  const double cells = saturated_cells(domain, r) * (opt.grade ? kDefaultCellBudget : 1);
   return {cells, kBytesPerCell * cells + kBytesPerCube * background_cubes(domain, r)};
 }
 
@@ -55,7 +61,7 @@ double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool 
   if (!(cells >= 1) || !(cells <= 1e10))
     fail(ErrorKind::Usage, fmt::format("--cells must be from 1 to 1e10, got {}", cells));
   // The density's estimate (V + S r/2) / r^3 is decreasing in r: bisect on its logarithm.
-  auto estimate = [&](double r) { return 0.7336 * (domain.volume + domain.surface_area * r / 2) / (r * r * r); };
+  auto estimate = [&](double r) { return saturated_cells(domain, r); };
   double lo = domain.bounds.diagonal() * 1e-7, hi = domain.bounds.diagonal() * 10;
   for (int it = 0; it < 200; ++it) {
     const double mid = std::sqrt(lo * hi);
