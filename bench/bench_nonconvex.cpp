@@ -72,7 +72,7 @@ froth::TriangleSurface torus(size_t triangles) {
 int main(int argc, char** argv) {
   int threads = 2, repeat = 2;
   double cells = 1e5;
-  std::string dir = "../shared/models";
+  std::string dir = "tests/data/models";
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
