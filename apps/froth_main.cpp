@@ -20,28 +20,22 @@
 #include <fmt/format.h>
 
 #include "cli_guards.hpp"
+#include "cli_options.hpp"
+#include "progress_bar.hpp"
+#include "summary.hpp"
 #include "communicators.hpp"
 #include "froth/froth.hpp"
 
 namespace {
 
-struct MeshArgs {
-  std::string input;
-  double r = -INFINITY;  // -INFINITY: not given
-  std::string seed_text = "0";
-  uint64_t seed = 0;  // parsed from seed_text (cli_guards)
+using froth_cli::CommonArgs;
+using froth_cli::Verbosity;
+
+struct MeshArgs : CommonArgs {
   std::string output;
-  double weld = -1;  // default: froth::default_weld_tolerance
-  int threads = 0;
   std::string report;
-  bool no_quality = false;
-  double feature_angle = froth::kDefaultFeatureAngle;
-  bool repair = false;
   bool partition = false;
-  bool grade = false;
-  double min_r = 0, max_grading = 0.2;
-  double max_memory_gb = 0;  // 0: the machine's available memory
-  double cells = 0;           // --cells: choose r for about this many (0: -r given)
+  double cells = 0;  // --cells: choose r for about this many (0: -r given)
   bool dry_run = false;
 };
 
@@ -50,121 +44,10 @@ std::string default_output(const std::string& input) {
   return std::filesystem::path(input).stem().string() + ".vtu";
 }
 
-// --weld: negative (unset) means the default, 1e-4 min(r, the domain's diagonal).
-double weld_tolerance(double weld, double r, const froth::Domain& domain) {
-  return weld < 0 ? froth::default_weld_tolerance(r, domain.bounds.diagonal()) : weld;
-}
-
-// "interior aspect ratio A to B (mean M)", or what stands for it when there is no interior cell
-// (a domain thinner than r).
-std::string interior_aspect_text(const froth::QualityReport& q) {
-  const auto& in = q.aspect[0];
-  if (q.cells[0] == 0) return "no interior cells";
-  return fmt::format("interior aspect ratio {:.3f} to {:.3f} (mean {:.3f})", in.min, in.max, in.mean());
-}
-
-// The summary's sentences on features, welding and quality.
-std::string details_sentence(const froth::RunReport& run) {
-  const froth::FeatureSummary& f = run.features;
-  const auto& input = run.input;
-  std::string out = fmt::format(
-      " Input: {} triangles, {} shell{} ({} cavit{}), {}{}.", input.triangles, input.shells, input.shells == 1 ? "" : "s",
-      input.cavities, input.cavities == 1 ? "y" : "ies", input.convex ? "convex" : "non-convex: cells clipped to the surface",
-      input.reoriented_triangles ? fmt::format("; --repair reoriented {} triangles", input.reoriented_triangles) : "");
-  if (run.not_star_shaped > 0)
-    out += fmt::format(" {} cells are not star-shaped from their seed (a face plane up to {:.3g} r beyond it): such cells "
-                       "lie along concave curved surfaces, whose flat reflex edges are not protected, or where "
-                       "features are closer than r.",
-                       run.not_star_shaped, run.star_violation);
-  if (run.without_kernel > 0)
-    out += fmt::format(" {} of them are star-shaped from no point (empty kernel): they wrap around a feature thinner "
-                       "than r; a smaller r avoids them.",
-                       run.without_kernel);
-  for (const auto& [what, m] : {std::pair{"walls", run.feature_size.thickness}, std::pair{"gaps", run.feature_size.gap}})
-    if (std::isfinite(m.min))
-      out += fmt::format(" {} narrower than {}r on {:.3g}% of the surface (narrowest {:.3g} = {:.3g} r, at ({:.4g}, "
-                         "{:.4g}, {:.4g})).",
-                         what, run.feature_size.cap > run.r ? "2" : "", 100 * m.area_below_cap, m.min, m.min / run.r,
-                         m.where.x, m.where.y, m.where.z);
-  if (run.sizing.graded)
-    out += fmt::format(" Sizing graded to the walls and gaps: h from {:.3g} (= {:.3g} r, floor --min-r {:.3g}{}) to r, "
-                       "slope at most {:.2g}; h < r on {:.3g}% of the volume, about {:.3g} times a uniform mesh's cells.",
-                       run.sizing.smallest, run.sizing.smallest / run.r, run.sizing.min_r,
-                       run.sizing.floor_raised ? ", raised from r/4 to keep the cells within budget" : "",
-                       run.sizing.lipschitz, 100 * run.sizing.graded_fraction, run.sizing.cell_ratio);
-  else if (run.sizing.floor_raised)
-    out += " Sizing not graded: resolving the walls and gaps would cost more than the default budget of cells; give "
-           "--min-r to grade anyway.";
-  if (run.split_seeds > 0)
-    out += fmt::format(" {} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces became "
-                       "{} more cells (cell data piece > 0).",
-                       run.split_seeds, run.extra_pieces);
-  if (run.sampling.edge_seeds + run.sampling.vertex_seeds > 0)
-    out += fmt::format(" Protection: {} vertex and {} edge seeds on the reflex edges (r_e = r/sqrt(2)).",
-                       run.sampling.vertex_seeds, run.sampling.edge_seeds);
-  out += fmt::format(
-      " Features (over {} degrees): {} convex and {} reflex edges in {} curves, {} corners; {} flat edges ({} of them "
-      "concave).",
-      f.angle_degrees, f.convex_edges, f.reflex_edges, f.curves, f.corners, f.flat_edges, f.flat_reflex_edges);
-  if (run.welding) {
-    const froth::WeldStats& w = *run.welding;
-    out += fmt::format(
-        " Welding (w = {:.3g}): {} edges collapsed, {} faces removed, shortest edge {:.3g} -> {:.3g}, vertices moved "
-        "at most {:.3g}, faces non-planar by at most {:.2g} r.",
-        w.tolerance, w.edges_collapsed, w.faces_removed, w.shortest_edge_before, w.shortest_edge_after,
-        w.max_displacement, w.max_nonplanarity);
-  }
-  if (!run.quality) return out;
-  const froth::QualityReport& q = *run.quality;
-  // The paper's bounds hold before welding.
-  const froth::QualityReport& b = run.bounds_before_weld ? *run.bounds_before_weld : q;
-  const auto& ii = q.dihedral[0];
-  out += fmt::format(
-      " Quality: {}, interior dihedrals {:.1f} to {:.1f} degrees, "
-      "shortest edge {:.3g}; cells beyond the paper's bounds{}: {} (Theorem 1), {} and {} (Lemma 6).",
-      interior_aspect_text(q), ii.min, ii.max, q.shortest_edge, run.bounds_before_weld ? " before welding" : "",
-      b.theorem1_violations, b.lemma6_interior_violations, b.lemma6_border_violations);
-  if (b.graded_cells > 0)
-    out += fmt::format(" The bounds are judged where h = r; the {} cells with h < r at them or a neighbour are counted "
-                       "apart: {}, {} and {} beyond them.",
-                       b.graded_cells, b.graded_outside.theorem1, b.graded_outside.lemma6_interior,
-                       b.graded_outside.lemma6_border);
-  if (run.bounds_before_weld)
-    out += fmt::format(" Welding moved aspect ratios by at most {:.2g} and dihedrals by at most {:.2g} degrees.",
-                       run.weld_aspect_shift, run.weld_dihedral_shift);
+std::vector<std::string> written(const std::string& mesh, const std::string& report) {
+  std::vector<std::string> out{mesh};
+  if (!report.empty()) out.push_back(report);
   return out;
-}
-
-void print_summary(const froth::RunReport& run, const std::string& output, double write_seconds) {
-  std::string times;
-  for (const auto& st : run.stages) times += fmt::format("{} {:.3f} s, ", st.stage, st.seconds);
-  fmt::print(
-      "froth: meshed {} with r = {}{} and seed {}: {} cells ({} interior, {} fringe, {} edge, {} vertex) from {} seeds, "
-      "{} faces, {} points; every interior face matched, every cell closed. Volume: cells sum {:.12g}, domain "
-      "{:.12g} (relative error {:.2e}). Sampling: {} darts, {} refinement levels, maximal.{} Time: {}writing {:.3f} "
-      "s; total {:.3f} s on {} threads; peak memory {:.1f} MiB. Wrote {}.\n",
-      run.domain, run.r,
-      run.cells_requested > 0 ? fmt::format(" (chosen for about {:.6g} cells)", run.cells_requested) : "", run.seed,
-      run.cells, run.interior_cells, run.fringe_cells, run.edge_cells, run.vertex_cells,
-      run.sampling.seeds, run.faces,
-      run.points, run.volume_sum, run.domain_volume, run.volume_relative_error(), run.sampling.darts,
-      run.sampling.levels, details_sentence(run), times, write_seconds, run.total_seconds + write_seconds,
-      run.threads, run.peak_rss_bytes / 1048576.0, output);
-}
-
-// The options `froth mesh` runs with; progress on stderr if `tell` and it is a terminal.
-froth::MeshOptions mesh_options(const MeshArgs& a, const froth::Domain& domain, bool tell) {
-  froth::MeshOptions opt;
-  opt.r = a.r;
-  opt.seed = a.seed;
-  opt.weld = weld_tolerance(a.weld, a.r, domain);
-  opt.threads = a.threads;
-  opt.quality = !a.no_quality;
-  opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
-  opt.max_memory_bytes = a.max_memory_gb * 1e9;
-  if (tell && isatty(STDERR_FILENO))
-    opt.progress = [](const std::string& stage) { fmt::print(stderr, "froth: {}...\n", stage); };
-  return opt;
 }
 
 // -r as given, or chosen for --cells (the summary says which).
@@ -193,23 +76,28 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
 int run_mesh(const MeshArgs& given) {
   const std::string output = given.output.empty() ? default_output(given.input) : given.output;
   froth_cli::refuse_same_files({{"the input", given.input}, {"-o", output}, {"--report", given.report}});
-  froth::Domain domain = froth::load_domain(given.input, {given.feature_angle, given.repair});
+  froth_cli::refuse_unknown_format("-o", output, {".vtu"});
+  froth::Domain domain = froth::load_domain(given.input, given.load_options());
   const MeshArgs a = with_radius(given, domain);
-  const froth::MeshOptions opt = mesh_options(a, domain, true);
+  froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
   if (a.dry_run) return dry_run(a, domain, opt);
+  froth_cli::ProgressBar bar(!a.quiet);
+  opt.progress = bar.callback();
   froth::RunReport run;
   run.cells_requested = a.cells;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
   auto t0 = std::chrono::steady_clock::now();
-  if (opt.progress) opt.progress("writing");
+  if (opt.progress) opt.progress("writing", 0);
   froth::OutputGroup outputs;  // the mesh and its report appear together, or neither
-  froth::write_vtu(mesh, run, output);
-  double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  froth::write_vtu(mesh, run, output,
+                   opt.progress ? [&](double f) { opt.progress("writing", f); } : std::function<void(double)>());
+  const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
+  run.total_seconds += write_seconds;
   if (!a.report.empty()) froth::write_report_json(run, a.report);
   outputs.commit();
-  run.stages.pop_back();
-  print_summary(run, output, write_seconds);
+  bar.clear();
+  fmt::print("{}", froth_cli::mesh_summary(run, written(output, a.report), a.verbosity()));
   return 0;
 }
 
@@ -219,11 +107,12 @@ int run_mesh(const MeshArgs& given) {
 int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   std::filesystem::path output = given.output.empty() ? default_output(given.input) : given.output;
   if (output.extension() == ".vtu") output.replace_extension(".pvtu");
-  if (output.extension() != ".pvtu")
-    froth::fail(froth::ErrorKind::Usage, fmt::format("--partition writes a .pvtu file, not {}", output.string()));
-  froth::Domain domain = froth::load_domain(given.input, {given.feature_angle, given.repair});
+  froth_cli::refuse_unknown_format("-o with --partition", output.string(), {".pvtu"});
+  froth::Domain domain = froth::load_domain(given.input, given.load_options());
   const MeshArgs a = with_radius(given, domain);
-  const froth::MeshOptions opt = mesh_options(a, domain, comm.rank() == 0);
+  froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
+  froth_cli::ProgressBar bar(!a.quiet && comm.rank() == 0);
+  opt.progress = bar.callback();
   froth::RunReport run;
   run.cells_requested = a.cells;
   froth::PartitionReport part;
@@ -233,7 +122,7 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   const std::filesystem::path dir = output.parent_path() / stem;
   const std::string relative = fmt::format("{}/{}_{}.vtu", stem, stem, comm.rank());
   auto t0 = std::chrono::steady_clock::now();
-  if (opt.progress) opt.progress("writing");
+  if (opt.progress) opt.progress("writing", 0);
   int code = 0;
   try {
     std::filesystem::create_directories(dir);
@@ -253,6 +142,7 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   }
   const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
+  run.total_seconds += write_seconds;
   froth::PartitionSummary all = froth::combine_rank_reports(comm, run, part);
   if (comm.rank() != 0) return 0;
   std::vector<std::string> pieces;
@@ -264,15 +154,17 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
     throw;
   }
   if (!a.report.empty()) froth::write_report_json(all.run, a.report, &all);
-  all.run.stages.pop_back();
-  print_summary(all.run, output.string(), write_seconds);
+  bar.clear();
+  if (a.quiet) return 0;
+  fmt::print("{}", froth_cli::mesh_summary(all.run, written(output.string(), a.report), a.verbosity()));
   size_t owned = 0, ghosts = 0, shared = 0, fewest = SIZE_MAX, most = 0;
   for (const auto& p : all.ranks) {
     owned += p.owned_seeds, ghosts += p.ghost_seeds, shared += p.partition_faces;
     fewest = std::min(fewest, p.owned_seeds), most = std::max(most, p.owned_seeds);
   }
-  fmt::print("froth: partitioned over {} rank{} in slabs of z layers: {} to {} cells per rank, halo {} ghost seeds "
-             "({:.3f} per owned seed), {} cell faces shared between ranks (each counted from both sides).\n",
+  fmt::print("  {:<10}over {} rank{} in slabs of z layers: {} to {} cells per rank, halo {} ghost seeds ({:.3f} per "
+             "owned seed), {} cell faces shared between ranks (each counted from both sides)\n",
+             "partition",
              comm.size(), comm.size() == 1 ? "" : "s", fewest, most, ghosts, owned ? double(ghosts) / double(owned) : 0.0,
              shared);
   return 0;
@@ -302,19 +194,10 @@ struct World {
   }
 };
 
-struct EnsembleArgs {
-  std::string input, dir;
-  double r = 0, weld = -1;
-  std::string seed_text = "0";
-  uint64_t seed = 0;  // parsed from seed_text (cli_guards)
+struct EnsembleArgs : CommonArgs {
+  std::string dir;
   size_t members = 0;
-  int threads = 0;
-  bool no_quality = false;
-  double feature_angle = froth::kDefaultFeatureAngle;
-  bool repair = false;
-  bool grade = false;
-  double min_r = 0, max_grading = 0.2;
-  double max_memory_gb = 0;
+  bool overwrite = false;
 };
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
@@ -333,16 +216,22 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.command = command;
   opt.rank = world.rank;
   opt.ranks = world.size;
-  if (isatty(STDERR_FILENO)) opt.progress = [](const std::string& s) { fmt::print(stderr, "froth: {}...\n", s); };
+  froth_cli::ProgressBar bar(!a.quiet && world.rank == 0);
+  opt.progress = bar.callback();
   const auto t0 = std::chrono::steady_clock::now();
   froth::EnsembleProgress done;
   int code = 0;
+  const std::string where = world.size > 1 ? fmt::format(" (rank {})", world.rank) : "";
   try {
-    froth::Domain domain = froth::load_domain(a.input, {a.feature_angle, a.repair});
-    opt.weld = weld_tolerance(a.weld, a.r, domain);
-    done = froth::build_members(domain, opt);
+    froth::Domain domain = froth::load_domain(a.input, a.load_options());
+    opt.weld = froth_cli::mesh_options(a, domain).weld;
+    // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
+    if (world.rank == 0)
+      code = froth_cli::run_with_exit_codes([&] { return froth::prepare_ensemble_folder(domain, opt, a.overwrite), 0; });
+    code = world.max(code);
+    if (code == 0) done = froth::build_members(domain, opt);
   } catch (const froth::Error& e) {
-    fmt::print(stderr, "froth: error{}: {}\n", world.size > 1 ? fmt::format(" (rank {})", world.rank) : "", e.what());
+    fmt::print(stderr, "froth: error{}: {}\n", where, e.what());
     code = e.exit_code();
   }
   code = world.max(code);
@@ -353,11 +242,14 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   if (world.rank != 0) return 0;
   const std::vector<int> failed = froth::write_ensemble_summary(opt, done);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}: {} built, {} already complete{}; "
-             "{:.3f} s ({:.2f} members per minute). Wrote {}/ensemble.pvd and {}/ensemble.json.\n",
-             a.members, a.input, a.r, a.seed, a.dir, done.built, done.resumed,
-             world.size > 1 ? fmt::format(" on {} ranks", world.size) : "", seconds,
-             done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, a.dir, a.dir);
+  bar.clear();
+  if (!a.quiet)
+    fmt::print("froth: ensemble of {} members of {} with r = {} and seed {} in {}\n"
+               "  {:<10}{} built, {} already complete{}; {:.3f} s ({:.2f} members per minute)\n"
+               "  {:<10}{}/ensemble.pvd, {}/ensemble.json\n",
+               a.members, a.input, a.r, a.seed, a.dir, "members", done.built, done.resumed,
+               world.size > 1 ? fmt::format(" on {} ranks", world.size) : "", seconds,
+               done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, "wrote", a.dir, a.dir);
   if (failed.empty()) return 0;
   // The other members are complete; the run fails with the first failed member's code.
   fmt::print(stderr, "froth: error: {} of {} members could not be meshed (ensemble.json lists them under "
@@ -370,6 +262,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
 struct QualityArgs {
   std::string input, json, plots;
   int threads = 0;
+  bool quiet = false;
 };
 
 // Histograms as PNG, drawn by scripts/quality_plots.py with Debian's python3-matplotlib.
@@ -399,21 +292,10 @@ int run_quality(const QualityArgs& a) {
   if (!a.plots.empty()) std::filesystem::create_directories(a.plots);
   if (!json.empty()) froth::write_quality_json(q, a.input, json);
   if (!a.plots.empty()) draw_plots(json, a.plots);
-  size_t cells = 0;
-  for (auto n : q.cells) cells += n;
-  std::string aspect = interior_aspect_text(q);
-  aspect[0] = char(std::toupper(aspect[0]));
-  fmt::print(
-      "froth: {}: {} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex); {}. {}, interior dihedrals {:.1f} "
-      "to {:.1f} degrees, shortest edge {:.3g}; interior cells beyond Theorem 1: "
-      "{}, beyond Lemma 6: {} interior, {} border-interior.{}{}\n",
-      a.input, cells, q.cells[0], q.cells[1], q.cells[2], q.cells[3],
-      check.ok() ? "every cell closed, every shared face matched"
-                 : fmt::format("NOT VALID: {} open cells, {} unmatched faces, {} cells of non-positive volume (first: {})",
-                               check.open_cells, check.unmatched_faces, check.nonpositive_cells, check.first_problem),
-      aspect, q.dihedral[0].min, q.dihedral[0].max, q.shortest_edge, q.theorem1_violations,
-      q.lemma6_interior_violations, q.lemma6_border_violations, json.empty() ? "" : " Wrote " + json + ".",
-      a.plots.empty() ? "" : " Plots in " + a.plots + ".");
+  std::vector<std::string> files;
+  if (!json.empty()) files.push_back(json);
+  if (!a.plots.empty()) files.push_back(a.plots + "/aspect.png, " + a.plots + "/dihedral.png");
+  if (!a.quiet) fmt::print("{}", froth_cli::quality_summary(a.input, check, q, files));
   return 0;
 }
 
@@ -447,52 +329,22 @@ int froth_main(int argc, char** argv, const World& world) {
   app.require_subcommand(1);
   MeshArgs a;
   CLI::App* mesh = app.add_subcommand("mesh", "mesh a box or the solid a closed surface encloses with clipped Voronoi cells");
-  mesh->add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
-  CLI::Option* radius =
-      mesh->add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one");
+  CLI::Option* radius = froth_cli::add_common_options(*mesh, a);
   CLI::Option* cells = mesh->add_option("--cells", a.cells, "instead of -r: choose r for about this many cells (reported)");
   radius->excludes(cells);
   mesh->add_flag("--dry-run", a.dry_run, "print the estimated cells, memory and time, and stop");
-  mesh->add_option("--seed", a.seed_text, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)");
   mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
-  mesh->add_option("--weld", a.weld, "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 min(r, the domain's diagonal); 0 = off)")
-      ->check(CLI::NonNegativeNumber);
-  mesh->add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
-      ->check(CLI::Range(0, 4096));
   mesh->add_option("--report", a.report, "write a JSON run report here");
-  mesh->add_option("--max-memory", a.max_memory_gb,
-                   "refuse a run estimated to need more than this many GB (default: the memory available)")
-      ->check(CLI::PositiveNumber);
-  mesh->add_flag("--no-quality", a.no_quality, "skip the per-cell quality metrics (VTU cell data and report)");
-  mesh->add_option("--feature-angle", a.feature_angle,
-                   "input edges turning by more than this many degrees are features (default 30)");
-  mesh->add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
-  mesh->add_flag("--grade", a.grade,
-                 "grade the radius to the input's thin walls and gaps: h(x) <= r, at least --min-r (experimental)");
-  mesh->add_option("--min-r", a.min_r, "with --grade: the smallest radius h may take (default: from r/4 up, the lowest that keeps the estimated cells within 3 times a uniform mesh's)")
-      ->check(CLI::PositiveNumber);
-  mesh->add_option("--max-grading", a.max_grading,
-                   "with --grade: the slope of h along its grid, in (0, 0.25) (default 0.2; |grad h| <= sqrt(3) times it)");
   mesh->add_flag("--partition", a.partition,
                  "split the mesh over the MPI ranks (slabs of the sampling grid along z); writes a .pvtu with one "
                  "piece per rank, the same cells as one process makes");
   EnsembleArgs ea;
   CLI::App* ensemble = app.add_subcommand("ensemble", "make N independent meshes of one domain (resumable)");
-  ensemble->add_option("input", ea.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
-  ensemble->add_option("-r,--radius", ea.r, "sampling radius r")->required();
+  froth_cli::add_common_options(*ensemble, ea)->required();
   ensemble->add_option("-n,--members", ea.members, "number of members")->required()->check(CLI::Range(1, 1000000));
-  ensemble->add_option("--seed", ea.seed_text, "ensemble seed S; member k has seed froth::member_seed(S, k)");
-  ensemble->add_option("-o,--output", ea.dir, "output directory")->required();
-  ensemble->add_option("--weld", ea.weld, "weld tolerance (default 1e-4 min(r, the domain's diagonal); 0 = off)")->check(CLI::NonNegativeNumber);
-  ensemble->add_option("--threads", ea.threads, "threads per member (default 0: all cores)")->check(CLI::Range(0, 4096));
-  ensemble->add_flag("--no-quality", ea.no_quality, "skip the per-cell quality metrics");
-  ensemble->add_option("--max-memory", ea.max_memory_gb, "refuse members estimated to need more GB (default: available)")
-      ->check(CLI::PositiveNumber);
-  ensemble->add_option("--feature-angle", ea.feature_angle, "feature angle in degrees (default 30)");
-  ensemble->add_flag("--repair", ea.repair, "reorient inconsistently wound shells (reported)");
-  ensemble->add_flag("--grade", ea.grade, "grade the radius to thin walls and gaps, as for froth mesh (experimental)");
-  ensemble->add_option("--min-r", ea.min_r, "with --grade: the smallest radius (default: from r/4 up, within a budget of 3 times the uniform cells)")->check(CLI::PositiveNumber);
-  ensemble->add_option("--max-grading", ea.max_grading, "with --grade: the slope of h, in (0, 0.25) (default 0.2)");
+  ensemble->add_option("-o,--output", ea.dir, "output folder")->required();
+  ensemble->add_flag("--overwrite", ea.overwrite,
+                     "replace an ensemble made with other inputs in the folder (without it such a folder is refused)");
   QualityArgs qa;
   CLI::App* quality = app.add_subcommand("quality", "measure the cells of a polyhedral VTU: aspect ratios, dihedrals, edges");
   quality->add_option("mesh", qa.input, "a VTU of VTK_POLYHEDRON cells (froth's or any other writer's)")->required();
@@ -500,6 +352,7 @@ int froth_main(int argc, char** argv, const World& world) {
   quality->add_option("--plots", qa.plots, "write PNG histograms (aspect ratio by cell kind, dihedrals by class) here");
   quality->add_option("--threads", qa.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
+  quality->add_flag("-q,--quiet", qa.quiet, "print nothing on success");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -27,7 +27,7 @@ struct EnsembleOptions {
   std::filesystem::path dir;
   std::string command;     // the exact command line, for the record
   int rank = 0, ranks = 1; // this process builds the members k with k % ranks == rank
-  std::function<void(const std::string&)> progress;
+  std::function<void(const std::string& stage, double fraction)> progress;  // "members", the fraction begun
 };
 
 // The seed of member k: Philox4x64 keyed by S (stream "ensemble") at counter k. `froth mesh
@@ -39,6 +39,14 @@ struct EnsembleProgress {
   size_t built = 0, resumed = 0;
   size_t failed = 0;  // members that could not be meshed (DIR/member_K.failed.json says why)
 };
+
+// Removes the temporary files a killed run left in opt.dir, and refuses (Usage) a folder holding
+// members made with other inputs (another r, seed, input or options), so that one folder never
+// mixes two ensembles; with `overwrite` it removes that ensemble's files instead. Files froth
+// does not name (member_*, ensemble.json, ensemble.pvd) are left alone. Call on one rank, before
+// any rank builds.
+// The options are checked first (check_mesh_options), so a bad run touches nothing.
+void prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite);
 
 // Builds this rank's members that are not already complete and valid in opt.dir.
 EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt);

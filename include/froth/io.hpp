@@ -1,6 +1,7 @@
 // Writers. Every output is written to a temporary name and renamed on success.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,7 +12,8 @@ namespace froth {
 
 // VTK XML UnstructuredGrid of VTK_POLYHEDRON cells, appended raw binary. Cell data: seed,
 // kind, volume; field data: r, random_seed, weld, version.
-void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path);
+void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
+               const std::function<void(double)>& progress = {});
 
 // The parallel VTU (.pvtu) that gathers the pieces of a partitioned run (froth/partition.hpp),
 // each written by write_vtu; `pieces` are their paths relative to the .pvtu's folder. The pieces

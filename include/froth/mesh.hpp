@@ -104,7 +104,9 @@ struct MeshOptions {
   double weld = 0;           // weld tolerance w in [0, r): vertices closer than w merge; 0 = off
   int threads = 0;           // 0 = all cores; never changes the result
   bool quality = false;      // measure every cell (mesh.quality, report.quality)
-  std::function<void(const std::string& stage)> progress;  // told when a stage starts
+  // Told when a stage starts (fraction 0) and, for sampling and cells, as it goes (fraction of
+  // the domain covered, of the cells built), from one thread.
+  std::function<void(const std::string& stage, double fraction)> progress;
   // A radius graded to the input's thin walls and gaps (sampling/sizing.hpp): h(x) <= r, at
   // least min_r (0: the default, r/4 or above: sampling/sizing.hpp), with slope `grading` along
   // the sizing grid. Off: h = r everywhere.

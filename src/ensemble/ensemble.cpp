@@ -50,6 +50,18 @@ std::pair<int64_t, uint32_t> crc_of(const std::filesystem::path& path) {
   return {size, uint32_t(crc)};
 }
 
+// Was the member whose sidecar is `j` made with these options, as member k? (Throws if `j` lacks
+// a field.)
+bool same_inputs(const EnsembleOptions& opt, const Json& j, size_t k) {
+  const Json& m = j.at("member");
+  const Json& in = j.at("input");
+  return m.at("seed").get<uint64_t>() == member_seed(opt.seed, k) && in.at("r").get<double>() == opt.r &&
+         in.at("weld").get<double>() == opt.weld && m.at("input").get<std::string>() == opt.input &&
+         m.at("quality").get<bool>() == opt.quality && in.at("grade").get<bool>() == opt.grade &&
+         (!opt.grade ||
+          (in.at("min_r").get<double>() == opt.min_r && in.at("max_grading").get<double>() == opt.grading));
+}
+
 // Is member k in the directory, complete, and made with these options?
 bool member_done(const EnsembleOptions& opt, size_t k) {
   std::ifstream in(sidecar(opt, k));
@@ -58,18 +70,19 @@ bool member_done(const EnsembleOptions& opt, size_t k) {
   try {
     j = Json::parse(in);
     const Json& m = j.at("member");
-    if (j.at("froth_version") != FROTH_VERSION || m.at("seed").get<uint64_t>() != member_seed(opt.seed, k) ||
-        j.at("input").at("r").get<double>() != opt.r || j.at("input").at("weld").get<double>() != opt.weld ||
-        m.at("input").get<std::string>() != opt.input || m.at("quality").get<bool>() != opt.quality ||
-        j.at("input").at("grade").get<bool>() != opt.grade ||
-        (opt.grade && (j.at("input").at("min_r").get<double>() != opt.min_r ||
-                       j.at("input").at("max_grading").get<double>() != opt.grading)))
-      return false;
+    if (j.at("froth_version") != FROTH_VERSION || !same_inputs(opt, j, k)) return false;
     const auto [size, crc] = crc_of(opt.dir / member_file(k));
     return size == m.at("bytes").get<int64_t>() && crc == m.at("crc32").get<uint32_t>();
   } catch (const std::exception&) {
     return false;  // unreadable or from another version: build it again
   }
+}
+
+// A member's options, checked before the folder is touched.
+void check_member_options(const Domain& domain, const EnsembleOptions& opt) {
+  MeshOptions mo;
+  mo.r = opt.r, mo.weld = opt.weld, mo.grade = opt.grade, mo.max_memory_bytes = opt.max_memory_bytes;
+  check_mesh_options(domain, mo);
 }
 
 struct Spread {
@@ -94,12 +107,45 @@ uint64_t member_seed(uint64_t seed, size_t k) {
 
 std::string member_file(size_t k) { return fmt::format("member_{:05d}.vtu", k); }
 
-EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {
-  {
-    MeshOptions mo;  // a member's options, checked before the folder is made
-    mo.r = opt.r, mo.weld = opt.weld, mo.grade = opt.grade, mo.max_memory_bytes = opt.max_memory_bytes;
-    check_mesh_options(domain, mo);
+void prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite) {
+  check_member_options(domain, opt);
+  std::error_code ec;
+  if (!std::filesystem::is_directory(opt.dir, ec)) return;
+  std::vector<std::filesystem::path> ours;  // the files an ensemble writes, and their temporaries
+  std::string other;                       // the first member made with other inputs
+  for (const auto& entry : std::filesystem::directory_iterator(opt.dir)) {
+    const std::string name = entry.path().filename().string();
+    const bool summary = name.rfind("ensemble.json", 0) == 0 || name.rfind("ensemble.pvd", 0) == 0;
+    if (!summary && name.rfind("member_", 0) != 0) continue;  // not froth's: left alone
+    if (name.find(".tmp") != std::string::npos) {
+      std::filesystem::remove(entry.path(), ec);  // a killed run's leftover, never renamed into place
+      continue;
+    }
+    ours.push_back(entry.path());
+    size_t k = 0;
+    if (!other.empty() || summary || std::sscanf(name.c_str(), "member_%zu.json", &k) != 1 ||
+        name != fmt::format("member_{:05d}.json", k))
+      continue;
+    try {
+      std::ifstream in(entry.path());
+      const Json j = Json::parse(in);
+      if (!same_inputs(opt, j, k))
+        other = fmt::format("member {} (r = {}, seed {}, input {})", k, j.at("input").at("r").get<double>(),
+                            j.at("member").at("seed").get<uint64_t>(), j.at("member").at("input").get<std::string>());
+    } catch (const std::exception&) {
+      // A damaged sidecar is rebuilt, not a reason to refuse.
+    }
   }
+  if (other.empty()) return;
+  if (!overwrite)
+    fail(ErrorKind::Usage, fmt::format("{} holds an ensemble made with other inputs: {}; give --overwrite to replace "
+                                       "it, or -o another folder",
+                                       opt.dir.string(), other));
+  for (const auto& path : ours) std::filesystem::remove(path);
+}
+
+EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {
+  check_member_options(domain, opt);
   std::error_code ec;
   if (std::filesystem::exists(opt.dir, ec) && !std::filesystem::is_directory(opt.dir, ec))
     fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; give -o a folder for the ensemble", opt.dir.string()));
@@ -121,7 +167,7 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
       ++done.resumed;
       continue;
     }
-    if (opt.progress) opt.progress(fmt::format("member {} of {}", k + 1, opt.members));
+    if (opt.progress) opt.progress("members", double(k) / double(opt.members));
     MeshOptions mo;
     mo.r = opt.r;
     mo.seed = member_seed(opt.seed, k);

@@ -36,10 +36,14 @@ class AppendedBlocks {
     offset_ += sizeof(uint64_t) + bytes;
     return attr;
   }
-  void write(std::ostream& out) const {
+  // `progress`, if set, is told the fraction of the bytes written after each block.
+  void write(std::ostream& out, const std::function<void(double)>& progress) const {
+    uint64_t done = 0;
     for (const auto& [bytes, produce] : blocks_) {
       out.write(reinterpret_cast<const char*>(&bytes), sizeof bytes);
       produce(out);
+      done += sizeof bytes + bytes;
+      if (progress) progress(double(done) / double(offset_));
     }
   }
 
@@ -184,7 +188,8 @@ std::string cell_arrays(AppendedBlocks& w, const PolyMesh& m, const std::vector<
 
 }  // namespace
 
-void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::path& path) {
+void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::path& path,
+               const std::function<void(double)>& progress) {
   const size_t n = m.cell_count();
   static_assert(sizeof(Vec3) == 3 * sizeof(double));
   // Sizes first (the XML header holds every block's offset), values streamed afterwards.
@@ -277,7 +282,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       << "</Piece>\n</UnstructuredGrid>\n<AppendedData encoding=\"raw\">\n_";
   write_atomically(path, [&](std::ostream& out) {
     out << xml.str();
-    w.write(out);
+    w.write(out, progress);
     out << "\n</AppendedData>\n</VTKFile>\n";
   });
 }

@@ -39,6 +39,12 @@ size_t peak_rss_bytes() {
 
 namespace {
 
+// A stage's progress as the samplers and the tessellation report it (a fraction done), or none.
+std::function<void(double)> progress_of(const MeshOptions& opt, const char* stage) {
+  if (!opt.progress) return {};
+  return [&opt, stage](double fraction) { opt.progress(stage, fraction); };
+}
+
 // Hands memory the allocator holds free back to the system (glibc keeps large freed work lists
 // mapped otherwise). Not under AddressSanitizer: its allocator does not use glibc's arenas, and
 // malloc_trim from a rank running as a thread (the partition tests) breaks glibc's arena
@@ -92,7 +98,7 @@ size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
 // With grading, up to 2r: walls below 2r shrink h (sampling/sizing.hpp).
 FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   if (domain.surface.triangles.empty()) return {};
-  if (opt.progress) opt.progress("feature size");
+  if (opt.progress) opt.progress("feature size", 0);
   FeatureSize fs = measure_feature_size(domain, opt.grade ? 2 * opt.r : opt.r);
   run.feature_size = fs.report;
   run.stages.push_back({"feature size", watch.lap(), peak_rss_bytes()});
@@ -159,7 +165,7 @@ struct WeldedCells {
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
   if (!(opt.weld > 0)) return welded;
-  if (opt.progress) opt.progress("welding");
+  if (opt.progress) opt.progress("welding", 0);
   // The paper's bounds speak of the mesh before welding. Welding changes few cells: their
   // metrics are taken before it, and the other cells' are the same before and after.
   auto measure_before = [&](const std::vector<size_t>& cells) {
@@ -176,7 +182,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
 
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).
 void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
-  if (opt.progress) opt.progress("validation");
+  if (opt.progress) opt.progress("validation", 0);
   mesh.volumes.resize(mesh.cell_count());
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
@@ -192,7 +198,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
                                           check.first_problem));
 
   if (opt.quality) {
-    if (opt.progress) opt.progress("quality");
+    if (opt.progress) opt.progress("quality", 0);
     run.quality = std::make_shared<const QualityReport>(assess_quality(mesh, &mesh.quality));
     if (run.welding) {
       // Bounds before welding: the counts after, with the welded cells' verdicts swapped back;
@@ -243,15 +249,16 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   RunReport local;
   RunReport& run = report ? *report : local;
   start_run(domain, opt, run);
+  const auto going = [&](const char* stage) { return progress_of(opt, stage); };
   auto progress = [&](const char* stage) {
-    if (opt.progress) opt.progress(stage);
+    if (opt.progress) opt.progress(stage, 0);
   };
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
   const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
   progress("sampling");
-  Sample sample = sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed)
-                                      : sample_graded_poisson_disk(domain, sizing, opt.seed);
+  Sample sample = sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed, nullptr, going("sampling"))
+                                      : sample_graded_poisson_disk(domain, sizing, opt.seed, going("sampling"));
   run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
   run.sampling = sample.stats;
   release_freed_memory();  // the sampler's freed work lists, before the cells' peak
@@ -259,7 +266,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
 
   progress("cells");
   TessellationTimes tt;
-  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt));
+  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt), going("cells"));
   set_radii(mesh, sizing);
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
@@ -287,11 +294,11 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   part.ranks = comm.size();
   part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
 
-  if (opt.progress) opt.progress("sampling");
+  if (opt.progress) opt.progress("sampling", 0);
   CellWindow w;
   if (sizing.is_uniform()) {
     SamplingPartition sp{part.slab, &comm};
-    Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp);
+    Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp, progress_of(opt, "sampling"));
     part.exchanges = sp.exchanges;
     w = exchange_cell_halo(sampled, part.slab, comm);
     run.sampling = w.sample.stats;
@@ -301,7 +308,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
     // The graded sampler has no slab schedule yet: every rank draws the whole sample (the
     // serial one, a pure function of its inputs) and keeps its slab's window of it, so the
     // cells still equal the serial mesh's; only the cells' work is divided.
-    const Sample sampled = sample_graded_poisson_disk(domain, sizing, opt.seed);
+    const Sample sampled = sample_graded_poisson_disk(domain, sizing, opt.seed, progress_of(opt, "sampling"));
     w = exchange_cell_halo(sampled, part.slab, comm);
     run.sampling = sampled.stats;
   }
@@ -317,9 +324,10 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
 
   // This rank's cells and the ring of ghost cells around them, welded together so that every
   // short edge at an owned vertex is seen; then the ghost cells are dropped.
-  if (opt.progress) opt.progress("cells");
+  if (opt.progress) opt.progress("cells", 0);
   TessellationTimes tt;
-  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt));
+  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt),
+                                     progress_of(opt, "cells"));
   set_radii(ring, sizing);
   // The owned seeds' cells, pieces included (a seed's pieces follow it).
   const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),

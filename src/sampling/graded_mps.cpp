@@ -55,6 +55,8 @@ struct Dart {
 
 class GradedSampler {
  public:
+  std::function<void(double)> progress_;  // told after each level the fraction of the domain covered
+
   GradedSampler(const Domain& d, const SizingField& h, uint64_t seed)
       : d_(d), h_(h), r_(h.r()), reach_factor_((1 + 1e-6) / (1 - h.lipschitz())), seed_(seed),
         rng_(seed, RandomStream::Graded) {
@@ -67,6 +69,7 @@ class GradedSampler {
   Sample run() {
     protect();
     std::vector<Cube> active = initial_cubes();
+    const size_t initial_active = std::max<size_t>(1, active.size());
     int level = 0;
     for (; !active.empty(); ++level) {
       SamplingLevel stats{active.size(), 0, 0};
@@ -100,6 +103,7 @@ class GradedSampler {
       s_.stats.per_level.push_back(stats);
       if (level == kMaxLevel) break;
       active = refine(active, level);
+      if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level + 1)));
     }
     s_.stats.levels = size_t(level) + 1;
     s_.stats.uncovered_cubes = active.size();
@@ -395,8 +399,11 @@ class GradedSampler {
 
 }  // namespace
 
-Sample sample_graded_poisson_disk(const Domain& domain, const SizingField& h, uint64_t seed) {
-  return GradedSampler(domain, h, seed).run();
+Sample sample_graded_poisson_disk(const Domain& domain, const SizingField& h, uint64_t seed,
+                                  const std::function<void(double)>& progress) {
+  GradedSampler sampler(domain, h, seed);
+  sampler.progress_ = progress;
+  return sampler.run();
 }
 
 }  // namespace froth

@@ -2,6 +2,8 @@
 // the refinement between them, protection seeds first and the seeds numbered by cube last.
 #include "sampling/mps_sampler.hpp"
 
+#include <cmath>
+
 namespace froth::mps {
 
 Sample Sampler::run() {
@@ -25,6 +27,7 @@ Sample Sampler::run() {
     if (level == tol::kMaxSamplingLevel) break;
     active = refine(active, level, thrown);
     ++level;
+    if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active_) * std::pow(8.0, level)));
   }
   s_.stats.levels = size_t(level) + 1;
   s_.stats.uncovered_cubes = active.size();
@@ -197,8 +200,11 @@ void Sampler::order_seeds_by_cube() {
 
 namespace froth {
 
-Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition) {
-  return mps::Sampler(domain, r, seed, partition).run();
+Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed, SamplingPartition* partition,
+                                   const std::function<void(double)>& progress) {
+  mps::Sampler sampler(domain, r, seed, partition);
+  sampler.on_level(progress);
+  return sampler.run();
 }
 
 }  // namespace froth

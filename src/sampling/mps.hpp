@@ -1,6 +1,7 @@
 // Unbiased maximal Poisson-disk sampling (Ebeida et al. 2012, "A simple algorithm for maximal
 // Poisson-disk sampling in high dimensions"), with a schedule defined on the global grid.
 #pragma once
+#include <functional>
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -77,7 +78,9 @@ struct SamplingPartition {
 // A maximal r-disk sample of the domain, a pure function of (domain, r, seed). With a partition,
 // the seeds of the slab's window only (the owned ones are final; those in the halo are the ones
 // that were needed), the same as the serial sample's there; every rank must call it together.
+// `progress`, if set, is told after each level the fraction of the domain covered.
 Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed,
-                                   SamplingPartition* partition = nullptr);
+                                   SamplingPartition* partition = nullptr,
+                                   const std::function<void(double)>& progress = {});
 
 }  // namespace froth

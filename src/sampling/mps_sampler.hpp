@@ -10,6 +10,7 @@
 // work is split. Cubes cut by the boundary are sampled too (darts outside are rejected), so the
 // density does not sag next to the boundary.
 #pragma once
+#include <functional>
 #include "sampling/mps.hpp"
 
 #include <omp.h>
@@ -157,6 +158,8 @@ class Sampler {
   }
 
   Sample run();
+  // Told after each level the fraction of the domain's cubes covered (from the calling thread).
+  void on_level(std::function<void(double)> f) { progress_ = std::move(f); }
 
  private:
   int layer_of(int64_t b) const { return int(b / (int64_t(s_.grid.nx) * s_.grid.ny)); }
@@ -623,6 +626,7 @@ class Sampler {
   std::vector<uint64_t> grandchild_marks_;
   size_t marked_seeds_ = 0;
   size_t initial_active_ = 0;  // base cubes not outside the domain (in this sampler's slab)
+  std::function<void(double)> progress_;
   double r_, r2_;
   uint64_t seed_;
   CounterRng rng_;

@@ -415,7 +415,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
-                            SeedRange built, double min_piece_volume) {
+                            SeedRange built, double min_piece_volume, const std::function<void(double)>& progress) {
   auto t0 = std::chrono::steady_clock::now();
   if (built.end < 0) built = {0, int32_t(sample.seeds.size())};
   const int32_t first_seed = built.begin;
@@ -432,6 +432,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     chunks.assign(nchunks, CellChunk());
     first_bad = n, first_error = {};
     CellBuilder builder(domain, sample, r, clip_convex);
+    std::atomic<size_t> chunks_done = 0;
 
 #pragma omp parallel
     {
@@ -458,6 +459,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
           else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
           if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
         }
+        const size_t finished = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
+        if (progress && omp_get_thread_num() == 0) progress(double(finished) / double(nchunks));
       }
     }
     if (!(first_error.failed() && first_error.cut_failed && !clip_convex)) break;

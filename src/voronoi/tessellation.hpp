@@ -1,6 +1,8 @@
 // Every seed's Voronoi cell, cut by a convex domain's planes or clipped to any other domain's surface
 // (src/clip), assembled into one conforming mesh.
 #pragma once
+#include <functional>
+
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
 #include "sampling/mps.hpp"
@@ -26,7 +28,9 @@ struct SeedRange {
 // Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
 // A seed's part of the domain in several pieces gives a cell per piece of at least
 // `min_piece_volume` (voronoi/split_pieces.hpp).
+// `progress`, if set, is told from one thread the fraction of the cells built.
 PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
-                            SeedRange built = {}, double min_piece_volume = 0);
+                            SeedRange built = {}, double min_piece_volume = 0,
+                            const std::function<void(double)>& progress = {});
 
 }  // namespace froth

@@ -2,6 +2,7 @@
 meshio 7). Run with Debian's /usr/bin/python3 (python3-vtk9, python3-meshio)."""
 import json
 import os
+import pty
 import shutil
 import subprocess
 import sys
@@ -259,13 +260,25 @@ check(p.returncode == 2 and "too small" in p.stderr and not os.path.exists(ens),
       f"ensemble with r too small: {p.returncode} {p.stderr}")
 
 # A graded ensemble resumes as a uniform one does, and its members record the grading: the same
-# folder without --grade builds every member again.
+# folder without --grade holds an ensemble made with other inputs, refused (exit 2, nothing
+# touched) unless --overwrite, which builds every member again and leaves no old member behind.
 ens = os.path.join(tmp, "graded_ens")
-runs = [froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens, *g)
-        for g in (["--grade"], ["--grade"], [])]
+runs = [froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "3", "--seed", "1", "-o", ens, *g)
+        for g in (["--grade"], ["--grade"])]
 check(all(p.returncode == 0 for p in runs), f"graded ensemble: {[p.returncode for p in runs]} {runs[0].stderr}")
-check("2 built" in runs[0].stdout and "0 built" in runs[1].stdout and "2 built" in runs[2].stdout,
-      f"graded ensemble resumes: {[p.stdout for p in runs]}")
+check("3 built" in runs[0].stdout and "0 built" in runs[1].stdout, f"graded ensemble resumes: {[p.stdout for p in runs]}")
+before = {f: os.path.getmtime(os.path.join(ens, f)) for f in os.listdir(ens)}
+p = froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens)
+check(p.returncode == 2 and "other inputs" in p.stderr and "--overwrite" in p.stderr,
+      f"ensemble folder of other inputs: {p.returncode} {p.stderr}")
+check(before == {f: os.path.getmtime(os.path.join(ens, f)) for f in os.listdir(ens)},
+      "a refused ensemble changed its folder")
+open(os.path.join(ens, "notes.txt"), "w").write("mine")
+p = froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens, "--overwrite")
+check(p.returncode == 0 and "2 built" in p.stdout, f"ensemble --overwrite: {p.returncode} {p.stdout} {p.stderr}")
+check(sorted(os.listdir(ens)) == ["ensemble.json", "ensemble.pvd", "member_00000.json", "member_00000.vtu",
+                                  "member_00001.json", "member_00001.vtu", "notes.txt"],
+      f"ensemble --overwrite left: {sorted(os.listdir(ens))}")
 # A graded mesh records the options that shaped h as field data, and the default floor keeps
 # the estimated cells within 3 times a uniform mesh's (the tube's wall, r/10, would take 64
 # times as many cells at the floor r/4).
@@ -345,7 +358,7 @@ check(p.returncode == 0, f"coarse tube: {p.stderr}")
 tube_report = json.load(open(tube_rep))
 check(tube_report["star_shaped"]["cells_without_kernel"] > 0, f"coarse tube: {tube_report['star_shaped']}")
 check("star-shaped from no point" in p.stderr + p.stdout, "coarse tube: the summary does not mention empty kernels")
-check("Quality: no interior cells," in p.stderr + p.stdout, "coarse tube: the summary gives an interior aspect ratio")
+check("quality   no interior cells;" in p.stdout, f"coarse tube: the summary gives an interior aspect ratio: {p.stdout}")
 try:
     jsonschema.validate(tube_report["quality"], schema)
 except jsonschema.ValidationError as e:
@@ -478,7 +491,7 @@ serial_out, part_out = os.path.join(tmp, "serial_box.vtu"), os.path.join(tmp, "p
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--seed", "4", "-o", serial_out)
 check(p.returncode == 0, f"serial mesh: {p.stderr}")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--seed", "4", "--partition", "-o", part_out)
-check(p.returncode == 0 and "partitioned over 1 rank in" in p.stdout, f"--partition: {p.returncode} {p.stdout} {p.stderr}")
+check(p.returncode == 0 and "partition over 1 rank in" in p.stdout, f"--partition: {p.returncode} {p.stdout} {p.stderr}")
 pr = vtk.vtkXMLPUnstructuredGridReader()
 pr.SetFileName(part_out)
 pr.Update()
@@ -489,6 +502,42 @@ check(np.array_equal(vtk_to_numpy(pg.GetCellData().GetArray("volume")), vtk_to_n
 check(os.path.exists(os.path.join(tmp, "part_box", "part_box_0.vtu")), "--partition: piece file")
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--partition", "-o", os.path.join(tmp, "part.vtk"))
 check(p.returncode == 2 and ".pvtu" in p.stderr, f"--partition -o part.vtk: {p.returncode} {p.stderr}")
+
+# The summary is a short block of labelled lines; --quiet prints nothing on success, --verbose
+# adds the stages' details; an output froth cannot write is refused before anything is read.
+box = ["mesh", "box:0,0,0,1,1,1", "-r", "0.2", "--seed", "3"]
+p = froth(*box, "-o", os.path.join(tmp, "summary.vtu"))
+labels = [line.split()[0] for line in p.stdout.splitlines()[1:]]
+check(p.returncode == 0 and labels == ["cells", "volume", "quality", "time", "wrote"] and len(p.stdout) < 1000,
+      f"summary block: {p.stdout}")
+p = froth(*box, "-o", os.path.join(tmp, "quiet.vtu"), "--quiet")
+check(p.returncode == 0 and p.stdout == "" and p.stderr == "" and os.path.exists(os.path.join(tmp, "quiet.vtu")),
+      f"--quiet: {p.returncode} {p.stdout!r} {p.stderr!r}")
+p = froth(*box, "-o", os.path.join(tmp, "verbose.vtu"), "--verbose")
+check(p.returncode == 0 and "  stages " in p.stdout and "  welding " in p.stdout, f"--verbose: {p.stdout}")
+for bad in ("out.vtk", "out.exo2", "out"):
+    p = froth(*box, "-o", os.path.join(tmp, bad))
+    check(p.returncode == 2 and "cannot write" in p.stderr and not os.path.exists(os.path.join(tmp, bad)),
+          f"-o {bad}: {p.returncode} {p.stderr}")
+# On a terminal, stderr shows the stages and a progress bar; on a pipe (above) nothing.
+master, slave = pty.openpty()
+proc = subprocess.Popen([FROTH, *box, "-o", os.path.join(tmp, "tty.vtu")], stdout=subprocess.PIPE, stderr=slave)
+os.close(slave)
+shown = b""
+while True:
+    try:
+        chunk = os.read(master, 4096)
+    except OSError:
+        break
+    if not chunk:
+        break
+    shown += chunk
+os.close(master)
+out, _ = proc.communicate()
+check(proc.returncode == 0 and b"froth: sampling" in shown and b"froth: cells" in shown and b"\r" not in out,
+      f"progress on a terminal: {proc.returncode} {shown!r}")
+p = froth("mesh", "--help")
+check("--seed TEXT=0" in p.stdout, "the default seed is not shown in --help")
 
 leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
 check(not leftovers, f"temporary files left: {leftovers}")

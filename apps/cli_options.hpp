@@ -1,0 +1,44 @@
+// The options `froth mesh` and `froth ensemble` share, registered once, and what they become:
+// the library's MeshOptions.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "froth/froth.hpp"
+#include "summary.hpp"
+
+namespace froth_cli {
+
+struct CommonArgs {
+  std::string input;
+  double r = -INFINITY;  // -INFINITY: not given
+  std::string seed_text = "0";
+  uint64_t seed = 0;  // parsed from seed_text (cli_guards)
+  double weld = -1;   // default: froth::default_weld_tolerance
+  int threads = 0;
+  bool no_quality = false;
+  double feature_angle = froth::kDefaultFeatureAngle;
+  bool repair = false;
+  bool grade = false;
+  double min_r = 0, max_grading = 0.2;
+  double max_memory_gb = 0;  // 0: the machine's available memory
+  bool quiet = false, verbose = false;
+
+  Verbosity verbosity() const { return quiet ? Verbosity::Quiet : verbose ? Verbosity::Verbose : Verbosity::Normal; }
+  froth::DomainOptions load_options() const { return {feature_angle, repair}; }
+};
+
+// Registers INPUT, -r, --seed, --weld, --threads, --no-quality, --feature-angle, --repair,
+// --grade, --min-r, --max-grading, --max-memory, --quiet and --verbose on `app`; returns -r.
+CLI::Option* add_common_options(CLI::App& app, CommonArgs& a);
+
+// The options a mesh is made with (the weld default needs the domain's size).
+froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain);
+
+// Refuses (Usage) an output whose extension froth does not write: `allowed` e.g. {".vtu"}.
+void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed);
+
+}  // namespace froth_cli
