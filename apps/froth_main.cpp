@@ -20,6 +20,7 @@
 #include <fmt/format.h>
 
 #include "cli_guards.hpp"
+#include "common/memory.hpp"
 #include "cli_options.hpp"
 #include "progress_bar.hpp"
 #include "summary.hpp"

@@ -64,18 +64,6 @@ struct Domain {
   std::shared_ptr<const SurfaceLocator> locator;  // inside tests and nearby triangles
 
   bool contains(Vec3 p) const;
-  // The facet plane of all of `triangles`, or -1 if they lie in several (or there are none).
-  // When they are all the triangles that meet a box, the surface within the box is that plane's
-  // whole section of it: the surface is closed and does not cross itself, and a triangle across
-  // the edge of the plane's region would meet the box too. So the plane's sign alone tells the
-  // side of a point of the box.
-  int32_t facet_plane_of(std::span<const int32_t> triangles) const {
-    if (triangles.empty()) return -1;
-    const int32_t plane = triangle_plane[size_t(triangles[0])];
-    for (int32_t t : triangles)
-      if (triangle_plane[size_t(t)] != plane) return -1;
-    return plane;
-  }
 };
 
 struct DomainOptions {
@@ -88,11 +76,13 @@ Domain make_box_domain(Vec3 lo, Vec3 hi);
 // Parses "box:X0,Y0,Z0,X1,Y1,Z1". Throws Error(Usage) when malformed.
 Domain parse_box_spec(const std::string& spec);
 
-// Validates the surface (finite, no degenerate triangle, closed, edge-manifold, consistently
-// oriented, no self-intersection; exact predicates), finds its shells and their nesting, orients
-// them, groups facet planes and decides whether the solid is convex. Throws Error(InvalidInput)
-// naming the first defect and where it is. `name` is used in error messages.
-Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, bool repair = false);
+// A surface built in memory, made a domain as load_domain makes a file's: validates it (finite,
+// no degenerate triangle, closed, edge-manifold, consistently oriented, no self-intersection;
+// exact predicates), finds its shells and their nesting, orients them, groups facet planes,
+// decides whether the solid is convex, and finds its feature edges and the reflex curves that
+// get protection seeds. Throws Error(InvalidInput) naming the first defect and where it is, or
+// Error(Usage) for a feature angle outside (0, 180). `name` is used in error messages.
+Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, const DomainOptions& options = {});
 
 // A box spec or a surface file, whichever `input` names.
 Domain load_domain(const std::string& input, const DomainOptions& options = {});

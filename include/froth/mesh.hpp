@@ -214,9 +214,6 @@ struct RunReport {
   }
 };
 
-// The process's peak resident memory so far (Linux VmHWM), in bytes.
-size_t peak_rss_bytes();
-
 // What a run of `options` on `domain` needs, estimated before it starts: the cells of a
 // saturated sample (paper §3.3's density, with the surface's fringe) and the bytes they take.
 struct RunEstimate {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "common/closed_edges.hpp"
+#include "common/facet_planes.hpp"
 #include "common/surface_locator.hpp"
 #include "common/tolerances.hpp"
 #include "common/union_find.hpp"
@@ -240,9 +241,9 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   if (tris.empty()) return Result::Inside;
 
   // Every triangle that meets the cell's box lies in one facet plane (half the tube's border
-  // cells): then V ∩ D is V below the plane (Domain::facet_plane_of). A protection seed lies on
+  // cells): then V ∩ D is V below the plane (common/facet_planes.hpp). A protection seed lies on
   // the surface, next to a reflex edge: never here.
-  if (const int32_t facet = domain_.facet_plane_of(tris); anchor == Vec3{} && facet >= 0) {
+  if (const int32_t facet = facet_plane_of(domain_, tris); anchor == Vec3{} && facet >= 0) {
     const Plane& P = domain_.planes[facet];
     const double offset = P.offset - dot(P.normal, x), margin = tol::clear_of_facet(half, domain_.bounds.diagonal());
     bool clear = true, any_above = false;
@@ -452,7 +453,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   // Adds the loops of one plane (normal n) as faces on generator g. A loop turning clockwise
   // about n is a hole in another: a polygon with a hole is no VTK face, so the face is kept as
   // its outer loop followed by its holes (face_loop_ 1, then 2 each), which the assembly
-  // triangulates from the global points (voronoi/holed_faces), the same way in both cells.
+  // triangulates from the global points (assembly/holed_faces), the same way in both cells.
   std::vector<uint8_t>& face_loop = out.face_loop_;
   face_loop.clear();
   auto add_faces_with_holes = [&](const Loops& plane_loops, Vec3 n, int32_t g) {

@@ -19,8 +19,8 @@ struct BackgroundGrid {
 
   // Empty cubes around the domain's box on every side, as many as the widest stencil reaches
   // (the cells' 2r is four cubes): a stencil around any cube that may hold a seed then stays in
-  // the grid, and is read through index offsets without a bounds check per cube. The checked
-  // path had taken the cells within four cubes of a face, half of a small mesh's cells.
+  // the grid, and is read through index offsets without a bounds check per cube (the cells
+  // near a face are a large share of a small mesh's).
   static constexpr int kMargin = 4;
 
   // Cubes along an axis of length `length` (at least one), with the margins.

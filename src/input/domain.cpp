@@ -93,7 +93,8 @@ std::string where_edge(const std::vector<Vec3>& V, int32_t a, int32_t b) {
 
 }  // namespace
 
-Domain domain_from_surface(const TriangleSurface& input, const std::string& name, bool repair) {
+// The surface validated, its shells nested and oriented, its facet planes grouped; no features yet.
+static Domain validated_domain(const TriangleSurface& input, const std::string& name, bool repair) {
   TriangleSurface s = input;
   const auto& V = s.vertices;
   auto& T = s.triangles;
@@ -296,13 +297,36 @@ bool Domain::contains(Vec3 p) const {
 }
 
 
+namespace {
+
+void check_feature_angle(double degrees) {
+  if (!(degrees > 0 && degrees < 180))
+    fail(ErrorKind::Usage, fmt::format("the feature angle must be between 0 and 180 degrees, got {}", degrees));
+}
+
+// The features of the domain's surface, and the reflex curves protection seeds (paper §2.2).
+void find_features(Domain& d, double feature_angle) {
+  const SurfaceFeatures features = classify_features(d.surface, feature_angle);
+  d.features = features.summary();
+  if (!d.convex)
+    for (const FeatureCurve& c : features.curves)
+      if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);
+}
+
+}  // namespace
+
+Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, const DomainOptions& options) {
+  check_feature_angle(options.feature_angle);
+  Domain d = validated_domain(surface, name, options.repair);
+  find_features(d, options.feature_angle);
+  return d;
+}
+
 Domain load_domain(const std::string& input, const DomainOptions& options) {
-  const double feature_angle = options.feature_angle;
-  if (!(feature_angle > 0 && feature_angle < 180))
-    fail(ErrorKind::Usage, fmt::format("the feature angle must be between 0 and 180 degrees, got {}", feature_angle));
+  check_feature_angle(options.feature_angle);
   if (input.rfind("box:", 0) == 0) {
     Domain d = parse_box_spec(input);
-    d.features = classify_features(d.surface, feature_angle).summary();
+    find_features(d, options.feature_angle);
     return d;
   }
   std::filesystem::path path(input);
@@ -318,13 +342,7 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
     fail(ErrorKind::Usage,
          fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
                      input, ext));
-  Domain d = domain_from_surface(surface, path.filename().string(), options.repair);
-  const SurfaceFeatures features = classify_features(d.surface, feature_angle);
-  d.features = features.summary();
-  if (!d.convex)
-    for (const FeatureCurve& c : features.curves)
-      if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);
-  return d;
+  return domain_from_surface(surface, path.filename().string(), options);
 }
 
 }  // namespace froth

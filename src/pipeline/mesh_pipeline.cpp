@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "common/memory.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"
@@ -19,23 +20,9 @@
 #include "sampling/sizing.hpp"
 #include "pipeline/partition.hpp"
 #include "sampling/mps.hpp"
-#include "voronoi/tessellation.hpp"
+#include "assembly/tessellation.hpp"
 
 namespace froth {
-
-size_t peak_rss_bytes() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "VmHWM:") {
-      size_t kib = 0;
-      status >> kib;
-      return kib * 1024;
-    }
-    status.ignore(1 << 20, '\n');
-  }
-  return 0;
-}
 
 namespace {
 

@@ -3,7 +3,7 @@
 #pragma once
 #include "froth/partition.hpp"
 #include "sampling/mps.hpp"
-#include "voronoi/tessellation.hpp"
+#include "assembly/tessellation.hpp"
 
 namespace froth {
 

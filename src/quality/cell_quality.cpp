@@ -111,7 +111,7 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     ++k;
     q.min_edge = std::min(q.min_edge, norm(m.points[x.a()] - m.points[x.b()]));
     // Two faces toward one neighbour meet only where a face with holes was cut into triangles
-    // (voronoi/holed_faces): a line in a plane, not an edge of the cell's shape. (Border faces
+    // (assembly/holed_faces): a line in a plane, not an edge of the cell's shape. (Border faces
     // read back from a VTU all share one generator: they are not skipped.)
     const int32_t gx = m.face_generator[f0 + x.face()], gy = m.face_generator[f0 + y.face()];
     if (gx == gy && gx >= 0 && dot(w.normals[x.face()], w.normals[y.face()]) > 1 - 1e-9) continue;

@@ -66,8 +66,8 @@ ActiveCubes Sampler::refine(const ActiveCubes& active, int level, std::optional<
   // then needed only for the exact test). Marks take 8 bytes per cube of the window: only where
   // the domain fills a fifth of it or more, so they cost at most 40 bytes per cube of the
   // domain, under 300 per seed, while the sampler's memory is still far below the peak of the
-  // stages after it. A thin or hollow solid's grid can be mostly empty cubes: step.off fills
-  // 1.5% of its grid, and its 10^5 cells would have taken 380 MB of marks.
+  // stages after it. A thin or hollow solid's grid can be mostly empty cubes, where marks would
+  // cost far more than the seeds.
   const bool marked = level <= 1 && 5 * initial_active_ >= s_.cube_seed.size();
   if (marked) {
     mark_grandchildren_in_one_ball(marked_seeds_);

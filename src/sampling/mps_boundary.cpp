@@ -2,6 +2,8 @@
 // classification and reference points for inside tests (sampling/mps_sampler.hpp).
 #include "sampling/mps_sampler.hpp"
 
+#include "common/facet_planes.hpp"
+
 namespace froth::mps {
 
 int Sampler::classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const {
@@ -162,7 +164,7 @@ ActiveCubes Sampler::initial_cubes() {
     boundary_ref_.resize(all_refs.size());
     for (size_t k = 0; k < all_refs.size(); ++k) boundary_ref_[k] = all_refs[k].second;  // in boundary_base_ order
     boundary_facet_.resize(boundary_base_.size());
-    for (size_t slot = 0; slot < boundary_base_.size(); ++slot) boundary_facet_[slot] = domain_.facet_plane_of(cutting_planes(slot));
+    for (size_t slot = 0; slot < boundary_base_.size(); ++slot) boundary_facet_[slot] = facet_plane_of(domain_, cutting_planes(slot));
   }
   std::erase_if(cubes, [](const std::vector<ActiveCube>& part) { return part.empty(); });
   return {std::move(cubes)};

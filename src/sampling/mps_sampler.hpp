@@ -49,8 +49,7 @@ struct ActiveCube {
 };
 
 // The active cubes of a level, in parts that are units of work: a part's children are a part
-// of the next level, so the lists are never copied into one (that copy was 5% of the sampling
-// time). Results depend on neither the parts nor their order: darts are keyed by cube, and
+// of the next level, so the lists are never copied into one. Results depend on neither the parts nor their order: darts are keyed by cube, and
 // seeds are numbered in Morton order.
 struct ActiveCubes {
   std::vector<std::vector<ActiveCube>> parts;
@@ -110,8 +109,7 @@ constexpr int kFirstExactCoverageLevel = 7;
 constexpr int kFirstFusedDartLevel = 2;
 
 // Inverse CDF of the Poisson law with mean `mean`: the CDF tabulated once (it is summed term by
-// term, p0 = exp(-mean) first), then read per draw, where a division per term cost 5% of the
-// dart throwing.
+// term, p0 = exp(-mean) first), then read per draw, with no division per term.
 class Poisson {
  public:
   explicit Poisson(double mean) {
@@ -179,8 +177,8 @@ class Sampler {
   // The entries (cube_seed) of base cube b's stencil cubes [first, last) that hold seeds, in
   // stencil order, into `found` (room for kStencilSize); -1 when the stencil leaves the grid or
   // the window, and the caller walks it cube by cube. Most cubes are two or more cubes from the
-  // sides: their stencil is read through index offsets without a branch per cube (nine in ten
-  // are empty, which a branch mispredicts: 15% of the sampling time at 3e5 seeds). The first
+  // sides: their stencil is read through index offsets without a branch per cube (most are
+  // empty, which a branch would mispredict). The first
   // kNearestCubes entries of the stencil are the cubes that share a face, edge or corner with b.
   static constexpr int kStencilSize = 116, kNearestCubes = 26;
   int occupied_stencil(int64_t b, int i0, int j0, int32_t* found, int first = 0, int last = kStencilSize) const {
@@ -491,7 +489,7 @@ class Sampler {
   // receives a facet plane whose inner side holds the domain's part of the sub-cube, or -1: for
   // a convex domain any plane that cuts it; otherwise the plane of the triangles that meet it, if
   // they all lie in one (then they span the plane's section of the sub-cube:
-  // Domain::facet_plane_of).
+  // common/facet_planes.hpp).
   int classify_sub_box(Vec3 lo, double h, size_t slot, int32_t& plane) const;
 
   // Non-convex domains: -1, 0 or 1 as classify_box, by which of `candidates` meet the box
@@ -619,7 +617,7 @@ class Sampler {
   std::vector<int32_t> boundary_planes_;
   std::vector<Reference> boundary_ref_;  // non-convex domains: per boundary cube
   // Non-convex domains, per boundary cube: the facet plane of all the triangles that meet it,
-  // or -1; the plane alone then tells a sub-cube's or a dart's side (Domain::facet_plane_of).
+  // or -1; the plane alone then tells a sub-cube's or a dart's side (common/facet_planes.hpp).
   std::vector<int32_t> boundary_facet_;
   // Per window cube, its grandchildren in one seed's ball, from the first marked_seeds_ seeds
   // (levels 0 and 1; mark_grandchildren_in_one_ball).

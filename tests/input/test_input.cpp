@@ -50,6 +50,18 @@ TEST(Input, IcosphereHasOnePlanePerTriangle) {
   EXPECT_LT(d.volume, 4.0 / 3.0 * M_PI);
 }
 
+// A surface built in memory is made a domain as a file is: the same features and the same reflex
+// curves for the protection seeds (the Fichera corner's three reflex edges).
+TEST(Input, SurfaceInMemoryGetsTheFileFeatures) {
+  const Domain from_file = load_domain(test::model("7_8ths_cube.stl"));
+  const Domain in_memory = domain_from_surface(read_stl(test::model("7_8ths_cube.stl")), "corner");
+  EXPECT_EQ(in_memory.features.reflex_edges, 3u);
+  EXPECT_EQ(in_memory.reflex_curves, from_file.reflex_curves);
+  EXPECT_FALSE(in_memory.reflex_curves.empty());
+  EXPECT_EQ(error_kind_of([&] { domain_from_surface(in_memory.surface, "corner", {.feature_angle = 0}); }),
+            ErrorKind::Usage);
+}
+
 TEST(Input, AsciiStlWithTwoSolidsGivesTwoShells) {
   TriangleSurface s = read_stl(test::model("two_objects_mixed_case_names.stl"));
   EXPECT_EQ(s.triangles.size(), 24u);
@@ -104,7 +116,7 @@ TEST(Input, SelfIntersectionIsNamed) {
 TEST(Input, RepairReorientsInconsistentShells) {
   TriangleSurface s = read_stl(test::model("multibody.stl"));
   EXPECT_NE(error_text_of([&] { domain_from_surface(s, "multibody"); }).find("--repair"), std::string::npos);
-  Domain d = domain_from_surface(s, "multibody", /*repair=*/true);
+  Domain d = domain_from_surface(s, "multibody", {.repair = true});
   EXPECT_GT(d.reoriented_triangles, 0u);
   EXPECT_EQ(d.shells, 2u);
   EXPECT_GT(d.volume, 0);

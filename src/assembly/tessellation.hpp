@@ -27,7 +27,7 @@ struct SeedRange {
 // or two cells disagree on a shared vertex.
 // Consumes the sample: its seeds become the mesh's, its look-up structures are freed early.
 // A seed's part of the domain in several pieces gives a cell per piece of at least
-// `min_piece_volume` (voronoi/split_pieces.hpp).
+// `min_piece_volume` (assembly/split_pieces.hpp).
 // `progress`, if set, is told from one thread the fraction of the cells built.
 PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
                             SeedRange built = {}, double min_piece_volume = 0,

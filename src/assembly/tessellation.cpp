@@ -8,7 +8,7 @@
 // vertex computes the same name, so the vertex's owner, the cell of its smallest seed, gives it
 // one global id and the other cells look it up there. Ids follow the seed order, so the mesh is
 // the same for any thread count.
-#include "voronoi/tessellation.hpp"
+#include "assembly/tessellation.hpp"
 
 #include <omp.h>
 
@@ -23,12 +23,13 @@
 #include <fmt/format.h>
 
 #include "clip/clip_cell.hpp"
+#include "common/memory.hpp"
 #include "common/page_allocator.hpp"
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "voronoi/convex_cell.hpp"
-#include "voronoi/holed_faces.hpp"
-#include "voronoi/split_pieces.hpp"
+#include "assembly/holed_faces.hpp"
+#include "assembly/split_pieces.hpp"
 
 namespace froth {
 namespace {
@@ -246,9 +247,8 @@ class CellBuilder {
     else insertion_sort(nb.data(), nb.data() + nb.size(), nearer);
     // Security radius: a seed farther than twice the cell's radius cannot cut it. The cell's
     // radius is a pass over its vertices; after a cut the farthest vertex of the new face gives
-    // a lower bound on it, and a neighbour within that is cut without the pass (the pass after
-    // every cut was 4% of the cells' time). The stop is the same: only a neighbour beyond the
-    // lower bound asks for the radius itself.
+    // a lower bound on it, and a neighbour within that is cut without the pass. The stop is the
+    // same: only a neighbour beyond the lower bound asks for the radius itself.
     auto security_bound = [&](double rmax2) { return 4 * rmax2 + 4 * eps_ * std::sqrt(rmax2); };
     double bound = security_bound(cell.max_radius2());
     bool exact = true;  // else `bound` is the lower one

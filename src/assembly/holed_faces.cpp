@@ -1,4 +1,4 @@
-#include "voronoi/holed_faces.hpp"
+#include "assembly/holed_faces.hpp"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

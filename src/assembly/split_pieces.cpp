@@ -1,4 +1,4 @@
-#include "voronoi/split_pieces.hpp"
+#include "assembly/split_pieces.hpp"
 
 #include <algorithm>
 #include <cmath>
