@@ -52,16 +52,16 @@ froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain
   return opt;
 }
 
-void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed) {
+void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed,
+                           const std::string& what) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (std::find(allowed.begin(), allowed.end(), ext) != allowed.end()) return;
   std::string names;
   for (const std::string& e : allowed) names += (names.empty() ? "" : ", ") + e;
   froth::fail(froth::ErrorKind::Usage,
-              fmt::format("{} {}: froth cannot write {} files; it writes {} (a VTK XML unstructured grid of polyhedra "
-                          "that ParaView and VTK read): give {} a name ending in {}",
-                          option, path, ext.empty() ? "extensionless" : ext, names, option, allowed.front()));
+              fmt::format("{} {}: froth cannot write {} files there; it writes {} ({}): give {} a name ending in {}",
+                          option, path, ext.empty() ? "extensionless" : ext, names, what, option, allowed.front()));
 }
 
 }  // namespace froth_cli

@@ -12,6 +12,8 @@
 
 namespace froth_cli {
 
+inline const std::string kVtuDescription = "a VTK XML unstructured grid of polyhedra that ParaView and VTK read";
+
 struct CommonArgs {
   std::string input;
   double r = -INFINITY;  // -INFINITY: not given
@@ -38,7 +40,9 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a);
 // The options a mesh is made with (the weld default needs the domain's size).
 froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain);
 
-// Refuses (Usage) an output whose extension froth does not write: `allowed` e.g. {".vtu"}.
-void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed);
+// Refuses (Usage) an output whose extension froth does not write there: `allowed` e.g. {".vtu"},
+// `what` what those files are, for the message.
+void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed,
+                           const std::string& what = kVtuDescription);
 
 }  // namespace froth_cli

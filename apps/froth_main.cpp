@@ -23,6 +23,7 @@
 #include "common/memory.hpp"
 #include "cli_options.hpp"
 #include "progress_bar.hpp"
+#include "python_scripts.hpp"
 #include "summary.hpp"
 #include "communicators.hpp"
 #include "froth/froth.hpp"
@@ -266,20 +267,12 @@ struct QualityArgs {
   bool quiet = false;
 };
 
-// Histograms as PNG, drawn by scripts/quality_plots.py with Debian's python3-matplotlib.
-void draw_plots(const std::string& json, const std::string& dir) {
-  std::filesystem::create_directories(dir);
-  const std::string script = std::string(FROTH_SCRIPTS_DIR) + "/quality_plots.py";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    execl("/usr/bin/python3", "python3", script.c_str(), json.c_str(), dir.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  int status = 0;
-  if (pid < 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    froth::fail(froth::ErrorKind::Io,
-                fmt::format("could not draw the plots in {} ({} with /usr/bin/python3 and python3-matplotlib)", dir,
-                            script));
+// "mesh.vtu: r = 0.1, seed 1, 3392 cells", as far as the mesh records them.
+std::string mesh_title(const std::string& path, const froth::PolyMesh& mesh) {
+  std::string title = std::filesystem::path(path).filename().string();
+  if (mesh.r > 0) title += fmt::format(": r = {:.4g}", mesh.r);
+  if (mesh.random_seed) title += fmt::format(", seed {}", *mesh.random_seed);
+  return title + fmt::format(", {} cells", mesh.cell_count());
 }
 
 int run_quality(const QualityArgs& a) {
@@ -292,11 +285,39 @@ int run_quality(const QualityArgs& a) {
   if (json.empty() && !a.plots.empty()) json = (std::filesystem::path(a.plots) / "quality.json").string();
   if (!a.plots.empty()) std::filesystem::create_directories(a.plots);
   if (!json.empty()) froth::write_quality_json(q, a.input, json);
-  if (!a.plots.empty()) draw_plots(json, a.plots);
+  if (!a.plots.empty())
+    froth_cli::run_python_script("quality_plots.py", {json, a.plots, mesh_title(a.input, mesh)}, false,
+                                 fmt::format("draw the plots in {} (python3-matplotlib)", a.plots));
   std::vector<std::string> files;
   if (!json.empty()) files.push_back(json);
   if (!a.plots.empty()) files.push_back(a.plots + "/aspect.png, " + a.plots + "/dihedral.png");
   if (!a.quiet) fmt::print("{}", froth_cli::quality_summary(a.input, check, q, files));
+  return 0;
+}
+
+struct RenderArgs {
+  std::string input, output, colour = "kind";
+  int width = 1200, height = 900;
+  bool quiet = false;
+};
+
+// A PNG of the mesh cut open at the middle (scripts/render_mesh.py, VTK offscreen), written to a
+// temporary name and renamed on success.
+int run_render(const RenderArgs& a) {
+  froth_cli::refuse_same_files({{"the mesh", a.input}, {"-o", a.output}});
+  froth_cli::refuse_unknown_format("-o", a.output, {".png"}, "PNG images");
+  froth::read_vtu(a.input);  // a clear error (exit 3 or 4) for a file that is not a polyhedral VTU
+  const std::string tmp = fmt::format("{}.tmp{}.png", a.output, getpid());
+  try {
+    froth_cli::run_python_script("render_mesh.py", {a.input, tmp, a.colour, std::to_string(a.width), std::to_string(a.height)},
+                                 true, fmt::format("render {} (python3-vtk9)", a.input));
+    std::filesystem::rename(tmp, a.output);
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw;
+  }
+  if (!a.quiet) fmt::print("froth: rendered {}\n  {:<10}{}\n", a.input, "wrote", a.output);
   return 0;
 }
 
@@ -354,6 +375,15 @@ int froth_main(int argc, char** argv, const World& world) {
   quality->add_option("--threads", qa.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   quality->add_flag("-q,--quiet", qa.quiet, "print nothing on success");
+  RenderArgs ra;
+  CLI::App* render = app.add_subcommand("render", "draw a mesh cut open at the middle as a PNG (VTK, offscreen)");
+  render->add_option("mesh", ra.input, "a VTU of VTK_POLYHEDRON cells")->required();
+  render->add_option("-o,--output", ra.output, "the PNG to write")->required();
+  render->add_option("--color", ra.colour, "colour by cell kind or by this cell array (aspect, volume, radius, ...)")
+      ->capture_default_str();
+  render->add_option("--width", ra.width, "image width in pixels")->capture_default_str()->check(CLI::Range(64, 8192));
+  render->add_option("--height", ra.height, "image height in pixels")->capture_default_str()->check(CLI::Range(64, 8192));
+  render->add_flag("-q,--quiet", ra.quiet, "print nothing on success");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -378,6 +408,7 @@ int froth_main(int argc, char** argv, const World& world) {
   return froth_cli::run_with_exit_codes([&] {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
+    if (render->parsed()) return run_render(ra);
     return 2;
   });
 }

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <string>
 #include <vector>
@@ -86,6 +87,7 @@ struct PolyMesh {
   // Each cell's exclusion radius, h at its seed; empty: r for every cell.
   std::vector<double> radii;
   double r = 0;  // the sampling radius; 0 if unknown (a VTU without froth's field data)
+  std::optional<uint64_t> random_seed;  // the seed it was made with, where known
   // Per cell: h < r at its seed or at a face neighbour's (quality.hpp's graded cells), worked
   // out where every neighbour is known (a partitioned run's cells with their ghost ring);
   // empty: from the radii.

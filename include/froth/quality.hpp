@@ -34,9 +34,11 @@ bool graded_near(const PolyMesh& mesh, size_t c);
 enum class DihedralClass : uint8_t { InteriorInterior = 0, BorderInterior = 1, BorderBorder = 2 };
 
 struct Histogram {
-  double lo = 0, hi = 0;         // range; values outside land in the end bins
-  std::vector<uint64_t> counts;  // equal-width bins
+  double lo = 0, hi = 0;         // range
+  std::vector<uint64_t> counts;  // equal-width bins over [lo, hi)
+  uint64_t below = 0, above = 0;  // values below lo; at or above hi, or not finite
   void add(double v);
+  void merge(const Histogram& o);
 };
 
 // Min, mean and max of the finite values; values that are not (the infinite aspect ratio of a

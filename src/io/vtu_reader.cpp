@@ -344,6 +344,11 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     const std::vector<double> v = rd.values<double>(r);
     if (v.size() == 1 && v[0] > 0) m.r = v[0];
   }
+  if (auto seed = rd.field("random_seed")) {  // froth writes it in ascii, exactly
+    std::istringstream in(seed.child_value());
+    uint64_t v = 0;
+    if (in >> v) m.random_seed = v;
+  }
   if (auto radius = rd.array("CellData", "radius", false); radius && m.r > 0) {
     std::vector<double> h = rd.values<double>(radius);
     if (h.size() != nc) bad(path, "the radius array does not have one value per cell");

@@ -255,6 +255,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   TessellationTimes tt;
   PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt), going("cells"));
   set_radii(mesh, sizing);
+  mesh.random_seed = opt.seed;
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
@@ -316,6 +317,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt),
                                      progress_of(opt, "cells"));
   set_radii(ring, sizing);
+  ring.random_seed = opt.seed;
   // The owned seeds' cells, pieces included (a seed's pieces follow it).
   const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
                own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));

@@ -157,7 +157,7 @@ CellVerdict judge(CellKind kind, const CellQuality& q, const std::vector<Dihedra
 
 constexpr int kAspectBins = 60;
 constexpr double kAspectLo = 1, kAspectHi = 4;
-constexpr int kDihedralBins = 90;
+constexpr int kDihedralBins = 180;
 
 }  // namespace
 
@@ -192,7 +192,8 @@ void count_verdict(QualityReport& r, const CellVerdict& v) {
 QualityReport empty_report() {
   QualityReport r;
   for (auto& h : r.aspect_histogram) h = {kAspectLo, kAspectHi, std::vector<uint64_t>(kAspectBins, 0)};
-  for (auto& h : r.dihedral_histogram) h = {0, 180, std::vector<uint64_t>(kDihedralBins, 0)};
+  // Dihedrals of non-convex cells (along reflex edges) go up to 360 degrees.
+  for (auto& h : r.dihedral_histogram) h = {0, 360, std::vector<uint64_t>(kDihedralBins, 0)};
   return r;
 }
 
@@ -206,13 +207,11 @@ void merge_quality(QualityReport& into, const QualityReport& from) {
     into.inradius[k].merge(from.inradius[k]);
     into.min_edge[k].merge(from.min_edge[k]);
     into.faces[k].merge(from.faces[k]);
-    for (size_t b = 0; b < into.aspect_histogram[k].counts.size(); ++b)
-      into.aspect_histogram[k].counts[b] += from.aspect_histogram[k].counts[b];
+    into.aspect_histogram[k].merge(from.aspect_histogram[k]);
   }
   for (int k = 0; k < QualityReport::kClasses; ++k) {
     into.dihedral[k].merge(from.dihedral[k]);
-    for (size_t b = 0; b < into.dihedral_histogram[k].counts.size(); ++b)
-      into.dihedral_histogram[k].counts[b] += from.dihedral_histogram[k].counts[b];
+    into.dihedral_histogram[k].merge(from.dihedral_histogram[k]);
   }
   into.theorem1_violations += from.theorem1_violations;
   into.lemma6_interior_violations += from.lemma6_interior_violations;
@@ -227,9 +226,21 @@ void merge_quality(QualityReport& into, const QualityReport& from) {
 
 void Histogram::add(double v) {
   if (counts.empty()) return;
+  if (v < lo) {
+    ++below;
+    return;
+  }
   const double x = (v - lo) / (hi - lo) * double(counts.size());
-  const size_t bin = std::isnan(x) ? counts.size() - 1 : size_t(std::clamp(x, 0.0, double(counts.size() - 1)));
-  ++counts[bin];
+  if (!(x < double(counts.size()))) {  // at or beyond hi, or NaN
+    ++above;
+    return;
+  }
+  ++counts[size_t(x)];
+}
+
+void Histogram::merge(const Histogram& o) {
+  for (size_t b = 0; b < counts.size(); ++b) counts[b] += o.counts[b];
+  below += o.below, above += o.above;
 }
 
 void Summary::add(double v) {
@@ -322,7 +333,7 @@ std::string quality_json_text(const QualityReport& q) {
     return j;
   };
   auto histogram = [](const Histogram& h) {
-    return nlohmann::ordered_json{{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}};
+    return nlohmann::ordered_json{{"lo", h.lo}, {"hi", h.hi}, {"counts", h.counts}, {"below", h.below}, {"above", h.above}};
   };
   nlohmann::ordered_json j;
   for (int k = 0; k < QualityReport::kKinds; ++k) {

@@ -370,6 +370,32 @@ for png in ("aspect.png", "dihedral.png"):
         import matplotlib.image  # noqa: E402
         check(matplotlib.image.imread(path).shape[0] > 100, f"{png} does not decode")
 
+# The coarse tube's cells of infinite aspect ratio are counted in the histograms' "above", not
+# lost in an end bin: every cell is in a bin, below or above.
+for kind, data in tube_report["quality"]["cells"].items():
+    h = data["aspect_histogram"]
+    check(sum(h["counts"]) + h["below"] + h["above"] == data["count"], f"coarse tube {kind}: histogram loses cells")
+check(sum(d["aspect_histogram"]["above"] for d in tube_report["quality"]["cells"].values()) > 0,
+      "coarse tube: no cell above the aspect histogram's range")
+
+# froth render: a PNG of the bundled example, cut open, of the size asked, not blank, in colours.
+picture = os.path.join(tmp, "q.png")
+p = froth("render", src, "-o", picture, "--width", "640", "--height", "480")
+check(p.returncode == 0 and os.path.exists(picture), f"froth render: {p.returncode} {p.stderr}")
+if os.path.exists(picture):
+    png = vtk.vtkPNGReader()
+    png.SetFileName(picture)
+    png.Update()
+    image = png.GetOutput()
+    pixels = vtk_to_numpy(image.GetPointData().GetScalars())
+    colours = len(np.unique(pixels[:, :3], axis=0))
+    white = np.all(pixels[:, :3] == 255, axis=1).mean()
+    check(image.GetDimensions()[:2] == (640, 480), f"froth render: size {image.GetDimensions()}")
+    check(colours > 50 and 0.2 < white < 0.95, f"froth render: {colours} colours, {white:.2f} white")
+for bad in ("q.jpg", "q.vtu"):
+    p = froth("render", src, "-o", os.path.join(tmp, bad))
+    check(p.returncode == 2, f"froth render -o {bad}: {p.returncode} {p.stderr}")
+
 g = read_vtk(src)
 for mode, compress, header in [("ascii", False, 64), ("binary", False, 32), ("binary", True, 64),
                                ("appended", True, 32), ("appended-base64", False, 64)]:

@@ -3,6 +3,8 @@
 // outradius), and the paper's bounds on whole meshes.
 #include <gtest/gtest.h>
 
+#include <numeric>
+
 #include <CGAL/Cartesian_d.h>
 #include <CGAL/Gmpq.h>
 #include <CGAL/Gmpzf.h>
@@ -197,7 +199,8 @@ TEST(Quality, MeshesRespectTheoremOneAndLemmaSix) {
     // The histograms count every cell and every edge twice (once per cell around it) at most.
     uint64_t binned = 0;
     for (auto v : q.aspect_histogram[0].counts) binned += v;
-    EXPECT_EQ(binned, q.cells[0]);
+    EXPECT_EQ(binned + q.aspect_histogram[0].below + q.aspect_histogram[0].above, q.cells[0]);
+    EXPECT_EQ(q.aspect_histogram[0].below, 0u);  // aspect ratios are at least 1
   }
 }
 
@@ -210,6 +213,16 @@ TEST(Quality, DetectsAFlattenedCell) {
   QualityReport q = assess_quality(m);
   EXPECT_EQ(q.theorem1_violations, 1u);
   EXPECT_EQ(q.lemma6_interior_violations, 0u);  // right angles: within [60, 150]
+  // A slab ten times wider than thick: its aspect ratio (over 4) is beyond the histogram's range,
+  // so it is counted apart, not in an end bin.
+  ConvexCell slab;
+  slab.reset_cube(1);
+  slab.clip({0, 0, 1}, -0.8, 1, kEps);
+  const QualityReport flat = assess_quality(mesh_of(slab));
+  ASSERT_GT(flat.aspect[0].max, flat.aspect_histogram[0].hi);
+  EXPECT_EQ(flat.aspect_histogram[0].above, 1u);
+  const auto& bins = flat.aspect_histogram[0].counts;
+  EXPECT_EQ(std::accumulate(bins.begin(), bins.end(), uint64_t(0)), 0u);
   // A plane meeting the top face at a 30° edge.
   ASSERT_EQ(c.clip({0.5, 0, -std::sqrt(0.75)}, 0.257, 1, kEps), ConvexCell::Clip::Cut);
   q = assess_quality(mesh_of(c));

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Install and use (issue: froth as a library): cmake --install into a fresh prefix, build
+# examples/ against the installed package alone (find_package(froth), froth::froth), run it, and
+# run the installed froth, whose scripts must come from PREFIX/share/froth.
+# Usage: test_install.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1 source=$2
+prefix=$(mktemp -d)
+trap 'rm -rf "$prefix"' EXIT
+cmake --install "$build" --prefix "$prefix" > "$prefix/install.log"
+for f in bin/froth include/froth/froth.hpp lib/libfroth.a lib/cmake/froth/frothConfig.cmake \
+         lib/cmake/froth/frothTargets.cmake share/froth/quality_plots.py share/froth/render_mesh.py; do
+  [ -e "$prefix/$f" ] || { echo "FAIL: $f is not installed"; exit 1; }
+done
+# The example sees only the prefix: no source or build tree on its include path.
+cmake -S "$source/examples" -B "$prefix/example" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$prefix" > "$prefix/configure.log"
+cmake --build "$prefix/example" -j2 > "$prefix/build.log"
+if grep -q -- "-I$source\|$source/src\|$build" "$prefix/example/CMakeFiles/mesh_a_part.dir/flags.make"; then
+  echo "FAIL: the example is compiled against the source or build tree"; exit 1
+fi
+out=$("$prefix/example/mesh_a_part" "$source/examples/unit_sphere.stl" 0.2 "$prefix/sphere.vtu")
+echo "$out"
+grep -q "cells (" <<<"$out" && [ -s "$prefix/sphere.vtu" ] || { echo "FAIL: the example did not mesh"; exit 1; }
+# The installed program reads the example's mesh and draws its plots with the installed script
+# (not the source tree's, which is also on this machine): the installed one is wrapped to leave a
+# mark when it runs.
+mv "$prefix/share/froth/quality_plots.py" "$prefix/share/froth/real_quality_plots.py"
+printf 'import os, runpy, sys\nopen(os.path.join(os.path.dirname(__file__), "used"), "w").close()\nsys.argv[0] = os.path.join(os.path.dirname(__file__), "real_quality_plots.py")\nrunpy.run_path(sys.argv[0], run_name="__main__")\n' \
+  > "$prefix/share/froth/quality_plots.py"
+"$prefix/bin/froth" quality "$prefix/sphere.vtu" --plots "$prefix/plots" -q
+[ -s "$prefix/plots/aspect.png" ] || { echo "FAIL: the installed froth drew no plots"; exit 1; }
+[ -e "$prefix/share/froth/used" ] || { echo "FAIL: the installed froth used the source tree's script"; exit 1; }
+echo "1 passed, 0 failed"
