@@ -45,4 +45,7 @@ froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain
 void refuse_unknown_format(const std::string& option, const std::string& path, const std::vector<std::string>& allowed,
                            const std::string& what = kVtuDescription);
 
+// Refuses (Usage) a mesh output froth::write_mesh cannot write, listing the ones it can.
+void refuse_unknown_mesh_format(const std::string& option, const std::string& path);
+
 }  // namespace froth_cli

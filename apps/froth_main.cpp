@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <omp.h>
 #ifdef FROTH_MPI
@@ -78,7 +79,7 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
 int run_mesh(const MeshArgs& given) {
   const std::string output = given.output.empty() ? default_output(given.input) : given.output;
   froth_cli::refuse_same_files({{"the input", given.input}, {"-o", output}, {"--report", given.report}});
-  froth_cli::refuse_unknown_format("-o", output, {".vtu"});
+  froth_cli::refuse_unknown_mesh_format("-o", output);
   froth::Domain domain = froth::load_domain(given.input, given.load_options());
   const MeshArgs a = with_radius(given, domain);
   froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
@@ -91,7 +92,7 @@ int run_mesh(const MeshArgs& given) {
   auto t0 = std::chrono::steady_clock::now();
   if (opt.progress) opt.progress("writing", 0);
   froth::OutputGroup outputs;  // the mesh and its report appear together, or neither
-  froth::write_vtu(mesh, run, output,
+  froth::write_mesh(mesh, run, output,
                    opt.progress ? [&](double f) { opt.progress("writing", f); } : std::function<void(double)>());
   const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
@@ -125,17 +126,13 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   const std::string relative = fmt::format("{}/{}_{}.vtu", stem, stem, comm.rank());
   auto t0 = std::chrono::steady_clock::now();
   if (opt.progress) opt.progress("writing", 0);
-  int code = 0;
-  try {
-    std::filesystem::create_directories(dir);
-    froth::write_vtu(piece, run, output.parent_path() / relative);
-  } catch (const froth::Error& e) {
-    fmt::print(stderr, "froth: error (rank {}): {}\n", comm.rank(), e.what());
-    code = e.exit_code();
-  } catch (const std::filesystem::filesystem_error& e) {
-    fmt::print(stderr, "froth: error (rank {}): cannot create {}: {}\n", comm.rank(), dir.string(), e.what());
-    code = 4;
-  }
+  int code = froth_cli::run_with_exit_codes(
+      [&] {
+        std::filesystem::create_directories(dir);
+        froth::write_vtu(piece, run, output.parent_path() / relative);
+        return 0;
+      },
+      fmt::format(" (rank {})", comm.rank()));
   // Every piece is written (or every rank removes its own) before the .pvtu names them.
   code = int(comm.max(code));
   if (code != 0) {
@@ -222,20 +219,20 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   opt.progress = bar.callback();
   const auto t0 = std::chrono::steady_clock::now();
   froth::EnsembleProgress done;
-  int code = 0;
   const std::string where = world.size > 1 ? fmt::format(" (rank {})", world.rank) : "";
-  try {
-    froth::Domain domain = froth::load_domain(a.input, a.load_options());
-    opt.weld = froth_cli::mesh_options(a, domain).weld;
-    // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
-    if (world.rank == 0)
-      code = froth_cli::run_with_exit_codes([&] { return froth::prepare_ensemble_folder(domain, opt, a.overwrite), 0; });
-    code = world.max(code);
-    if (code == 0) done = froth::build_members(domain, opt);
-  } catch (const froth::Error& e) {
-    fmt::print(stderr, "froth: error{}: {}\n", where, e.what());
-    code = e.exit_code();
-  }
+  // Every rank reaches each world.max, whatever it threw: none waits for a rank that left.
+  std::optional<froth::Domain> domain;
+  int code = froth_cli::run_with_exit_codes(
+      [&] {
+        domain = froth::load_domain(a.input, a.load_options());
+        opt.weld = froth_cli::mesh_options(a, *domain).weld;
+        // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
+        if (world.rank == 0) froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
+        return 0;
+      },
+      where);
+  code = world.max(code);
+  if (code == 0) code = froth_cli::run_with_exit_codes([&] { return done = froth::build_members(*domain, opt), 0; }, where);
   code = world.max(code);
   if (code != 0) return code;
   done.built = world.sum(done.built);
@@ -279,6 +276,7 @@ int run_quality(const QualityArgs& a) {
   froth_cli::refuse_same_files({{"the mesh", a.input}, {"--json", a.json}, {"--plots", a.plots}});
   if (a.threads > 0) omp_set_num_threads(a.threads);
   froth::PolyMesh mesh = froth::read_vtu(a.input);
+  mesh.volumes.clear();  // the check measures the file's geometry, not the volumes it claims
   const froth::MeshCheck check = froth::check_mesh(mesh);
   const froth::QualityReport q = froth::assess_quality(mesh);
   std::string json = a.json;
@@ -292,6 +290,25 @@ int run_quality(const QualityArgs& a) {
   if (!json.empty()) files.push_back(json);
   if (!a.plots.empty()) files.push_back(a.plots + "/aspect.png, " + a.plots + "/dihedral.png");
   if (!a.quiet) fmt::print("{}", froth_cli::quality_summary(a.input, check, q, files));
+  return 0;
+}
+
+struct ConvertArgs {
+  std::string input, output;
+  bool quiet = false;
+};
+
+// A mesh already written (froth's VTU, or any polyhedral VTU) in another format.
+int run_convert(const ConvertArgs& a) {
+  froth_cli::refuse_same_files({{"the mesh", a.input}, {"-o", a.output}});
+  froth_cli::refuse_unknown_mesh_format("-o", a.output);
+  const froth::PolyMesh mesh = froth::read_vtu(a.input);
+  froth::RunReport run;  // what the VTU's field data keep
+  run.r = mesh.r;
+  run.seed = mesh.random_seed.value_or(0);
+  froth::write_mesh(mesh, run, a.output);
+  if (!a.quiet)
+    fmt::print("froth: converted {} ({} cells)\n  {:<10}{}\n", a.input, mesh.cell_count(), "wrote", a.output);
   return 0;
 }
 
@@ -355,7 +372,9 @@ int froth_main(int argc, char** argv, const World& world) {
   CLI::Option* cells = mesh->add_option("--cells", a.cells, "instead of -r: choose r for about this many cells (reported)");
   radius->excludes(cells);
   mesh->add_flag("--dry-run", a.dry_run, "print the estimated cells, memory and time, and stop");
-  mesh->add_option("-o,--output", a.output, "output VTU file (default: <input stem>.vtu)");
+  mesh->add_option("-o,--output", a.output,
+                   "output: OUT.vtu (default <input stem>.vtu), a folder named polyMesh (OpenFOAM), OUT.npz (facet "
+                   "graph) or OUT.nodes (peridynamic nodes)");
   mesh->add_option("--report", a.report, "write a JSON run report here");
   mesh->add_flag("--partition", a.partition,
                  "split the mesh over the MPI ranks (slabs of the sampling grid along z); writes a .pvtu with one "
@@ -375,6 +394,11 @@ int froth_main(int argc, char** argv, const World& world) {
   quality->add_option("--threads", qa.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   quality->add_flag("-q,--quiet", qa.quiet, "print nothing on success");
+  ConvertArgs ca;
+  CLI::App* convert = app.add_subcommand("convert", "write a mesh already made (a polyhedral VTU) in another format");
+  convert->add_option("mesh", ca.input, "a VTU of VTK_POLYHEDRON cells")->required();
+  convert->add_option("-o,--output", ca.output, "OUT.vtu, a folder named polyMesh (OpenFOAM), OUT.npz (facet graph) or OUT.nodes (peridynamic nodes)")->required();
+  convert->add_flag("-q,--quiet", ca.quiet, "print nothing on success");
   RenderArgs ra;
   CLI::App* render = app.add_subcommand("render", "draw a mesh cut open at the middle as a PNG (VTK, offscreen)");
   render->add_option("mesh", ra.input, "a VTU of VTK_POLYHEDRON cells")->required();
@@ -387,8 +411,8 @@ int froth_main(int argc, char** argv, const World& world) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    const int code = app.exit(e);  // prints the help, the version or the parse error
+    return code == 0 ? 0 : int(froth::ErrorKind::Usage);
   }
   if (ensemble->parsed()) {
     std::string command;
@@ -409,7 +433,8 @@ int froth_main(int argc, char** argv, const World& world) {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
     if (render->parsed()) return run_render(ra);
-    return 2;
+    if (convert->parsed()) return run_convert(ca);
+    return int(froth::ErrorKind::Usage);
   });
 }
 

@@ -15,6 +15,31 @@ namespace froth {
 void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
                const std::function<void(double)>& progress = {});
 
+// OpenFOAM polyMesh in the folder `dir` (points, faces, owner, neighbour, boundary, cellZones by
+// cell kind; ASCII): interior faces once, owner < neighbour, normals out of the owner, in
+// upper-triangular order; the border faces in one wall patch, "walls".
+void write_openfoam(const PolyMesh& mesh, const std::filesystem::path& dir);
+
+// The facet graph, a NumPy .npz archive (numpy.load reads it): per cell its seed, centroid,
+// volume, kind, region and piece; per interior face (once) its two cells, area, centroid, unit
+// normal from the first cell to the second and the point where the segment between the two
+// seeds meets the face's plane; per border face its cell, area, centroid, outward normal, patch
+// and domain facet plane. docs/design.md lists the arrays; format_version is 1.
+void write_facet_graph(const PolyMesh& mesh, const std::filesystem::path& path);
+
+// Peridynamic nodes, Peridigm's text discretization ("x y z block_id volume" per cell, at the
+// cell's centroid, block 1), which PeriLab reads too.
+void write_peridynamic_nodes(const PolyMesh& mesh, const std::filesystem::path& path);
+
+// What write_mesh writes for an output path: NAME.vtu, a folder named polyMesh (OpenFOAM),
+// NAME.npz (facet graph) or NAME.nodes (peridynamic nodes).
+enum class MeshFormat { Vtu, OpenFoam, FacetGraph, PeridynamicNodes, Unknown };
+MeshFormat mesh_format_of(const std::filesystem::path& path);
+
+// The mesh in the format its path names (mesh_format_of); Usage error for an unknown one.
+void write_mesh(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
+                const std::function<void(double)>& progress = {});
+
 // The parallel VTU (.pvtu) that gathers the pieces of a partitioned run (froth/partition.hpp),
 // each written by write_vtu; `pieces` are their paths relative to the .pvtu's folder. The pieces
 // must all have the per-cell quality arrays or none.

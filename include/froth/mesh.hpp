@@ -88,6 +88,7 @@ struct PolyMesh {
   std::vector<double> radii;
   double r = 0;  // the sampling radius; 0 if unknown (a VTU without froth's field data)
   std::optional<uint64_t> random_seed;  // the seed it was made with, where known
+  bool border_planes_known = true;  // border faces name their domain facet plane (not read from a VTU)
   // Per cell: h < r at its seed or at a face neighbour's (quality.hpp's graded cells), worked
   // out where every neighbour is known (a partitioned run's cells with their ghost ring);
   // empty: from the radii.

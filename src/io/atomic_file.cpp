@@ -76,7 +76,7 @@ std::vector<std::pair<std::filesystem::path, int>>& registered() {
 
 void remember(const std::filesystem::path& tmp) {
   std::lock_guard<std::mutex> lock(g_registered_mutex);
-  remember(tmp);
+  registered().push_back({tmp, register_temporary(tmp)});
 }
 
 void forget(const std::filesystem::path& tmp) {
@@ -105,7 +105,7 @@ void write_atomically(const std::filesystem::path& requested, const std::functio
     return write_in_place(path, write);
   std::filesystem::path tmp = path;
   tmp += fmt::format(".tmp{}", ::getpid());
-  registered().push_back({tmp, register_temporary(tmp)});
+  remember(tmp);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) {

@@ -313,6 +313,7 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
                  int64_t(f)};
   std::sort(by_min.begin(), by_min.end());
   for (size_t f = 0; f < nf; ++f) m.face_generator[f] = plane_generator(0);
+  m.border_planes_known = false;
   auto sorted_points = [&](int64_t f) {
     std::vector<int32_t> k(m.face_vertices.begin() + m.face_vertex_begin[f],
                            m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
@@ -343,6 +344,18 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   if (auto r = rd.field("r")) {
     const std::vector<double> v = rd.values<double>(r);
     if (v.size() == 1 && v[0] > 0) m.r = v[0];
+  }
+  // froth's volumes and centres, as written (a solver's formats carry them on).
+  if (auto volume = rd.array("CellData", "volume", false)) {
+    std::vector<double> v = rd.values<double>(volume);
+    if (v.size() != nc) bad(path, "the volume array does not have one value per cell");
+    m.volumes = std::move(v);
+  }
+  if (auto center = rd.array("CellData", "center", false)) {
+    const std::vector<double> v = rd.values<double>(center);
+    if (v.size() != 3 * nc) bad(path, "the center array does not have three values per cell");
+    m.centers.resize(nc);
+    for (size_t c = 0; c < nc; ++c) m.centers[c] = {v[3 * c], v[3 * c + 1], v[3 * c + 2]};
   }
   if (auto seed = rd.field("random_seed")) {  // froth writes it in ascii, exactly
     std::istringstream in(seed.child_value());

@@ -1,0 +1,180 @@
+// OpenFOAM polyMesh (ASCII): points, faces, owner, neighbour, boundary and cellZones by kind.
+// OpenFOAM's rules: each interior face once, owner < neighbour, its normal (right-hand rule)
+// out of the owner; interior faces first, in upper-triangular order (by owner, then by
+// neighbour); then the border faces, patch by patch, their normals out of the domain.
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <numeric>
+
+#include <fmt/format.h>
+
+#include "froth/error.hpp"
+#include "froth/io.hpp"
+#include "io/atomic_file.hpp"
+
+namespace froth {
+namespace {
+
+constexpr std::array<const char*, 4> kZoneNames = {"interior", "fringe", "edge", "vertex"};
+
+// Text in memory, handed to the stream a megabyte at a time.
+class Chunked {
+ public:
+  explicit Chunked(std::ostream& out) : out_(out) {}
+  ~Chunked() { flush(); }
+  template <class... Args>
+  void put(fmt::format_string<Args...> f, Args&&... args) {
+    fmt::format_to(std::back_inserter(buf_), f, std::forward<Args>(args)...);
+    if (buf_.size() > (1 << 20)) flush();
+  }
+  void flush() {
+    out_.write(buf_.data(), std::streamsize(buf_.size()));
+    buf_.clear();
+  }
+
+ private:
+  std::ostream& out_;
+  fmt::memory_buffer buf_;
+};
+
+void header(Chunked& out, const char* cls, const char* object, const std::string& note = "") {
+  out.put("FoamFile\n{{\n    version     2.0;\n    format      ascii;\n    class       {};\n", cls);
+  if (!note.empty()) out.put("    note        \"{}\";\n", note);
+  out.put("    location    \"constant/polyMesh\";\n    object      {};\n}}\n\n", object);
+}
+
+// The faces in OpenFOAM's order, each as (a face of the mesh, its owner cell, neighbour or -1).
+struct FoamFace {
+  int64_t face;
+  int32_t owner, neighbour;
+};
+
+std::vector<FoamFace> foam_order(const PolyMesh& m, size_t& internal) {
+  std::vector<FoamFace> out;
+  std::vector<FoamFace> mine;
+  for (size_t c = 0; c < m.cell_count(); ++c) {
+    mine.clear();
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = m.face_generator[f];
+      if (is_other_piece_generator(g))
+        fail(ErrorKind::Usage, "an OpenFOAM mesh needs the whole mesh, not one rank's piece of a partitioned run");
+      if (g >= 0 && size_t(g) > c) mine.push_back({f, int32_t(c), g});
+    }
+    std::sort(mine.begin(), mine.end(), [](const FoamFace& a, const FoamFace& b) {
+      return a.neighbour != b.neighbour ? a.neighbour < b.neighbour : a.face < b.face;
+    });
+    out.insert(out.end(), mine.begin(), mine.end());
+  }
+  internal = out.size();
+  for (size_t c = 0; c < m.cell_count(); ++c)
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
+      if (is_border_generator(m.face_generator[f])) out.push_back({f, int32_t(c), -1});
+  return out;
+}
+
+// A case's system/ files, minimal, so that checkMesh and paraFoam run on a new case.
+void write_minimal_system(const std::filesystem::path& system) {
+  std::filesystem::create_directories(system);
+  const auto dict = [&](const char* object, const char* body) {
+    write_atomically(system / object, [&](std::ostream& os) {
+      Chunked out(os);
+      out.put("FoamFile\n{{\n    version     2.0;\n    format      ascii;\n    class       dictionary;\n"
+              "    object      {};\n}}\n\n{}",
+              object, body);
+    });
+  };
+  dict("controlDict",
+       "application     checkMesh;\nstartFrom       startTime;\nstartTime       0;\nstopAt          endTime;\n"
+       "endTime         0;\ndeltaT          1;\nwriteControl    timeStep;\nwriteInterval   1;\n");
+  dict("fvSchemes",
+       "ddtSchemes {}\ngradSchemes {}\ndivSchemes {}\nlaplacianSchemes {}\ninterpolationSchemes {}\n"
+       "snGradSchemes {}\n");
+  dict("fvSolution", "");
+}
+
+}  // namespace
+
+void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
+  if (m.cell_count() > size_t(INT32_MAX))
+    fail(ErrorKind::Usage, "OpenFOAM's 32-bit labels cannot number this mesh's cells");
+  size_t internal = 0;
+  const std::vector<FoamFace> faces = foam_order(m, internal);
+  // Points no face uses (none in froth's meshes, but a welded or read mesh may have them) are
+  // dropped: checkMesh counts them as an error.
+  std::vector<int32_t> new_id(m.points.size(), -1);
+  for (const FoamFace& f : faces)
+    for (int64_t k = m.face_vertex_begin[f.face]; k < m.face_vertex_begin[f.face + 1]; ++k)
+      new_id[size_t(m.face_vertices[k])] = 0;
+  int32_t used = 0;
+  for (int32_t& id : new_id)
+    if (id == 0) id = used++;
+  const std::string note = fmt::format("nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}", used, m.cell_count(),
+                                       faces.size(), internal);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) fail(ErrorKind::Io, fmt::format("{}: cannot create the polyMesh folder ({})", dir.string(), ec.message()));
+
+  write_atomically(dir / "points", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "vectorField", "points");
+    out.put("{}\n(\n", used);
+    for (size_t p = 0; p < m.points.size(); ++p)
+      if (new_id[p] >= 0) out.put("({:.17g} {:.17g} {:.17g})\n", m.points[p].x, m.points[p].y, m.points[p].z);
+    out.put(")\n");
+  });
+  write_atomically(dir / "faces", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "faceList", "faces");
+    out.put("{}\n(\n", faces.size());
+    for (const FoamFace& f : faces) {
+      const int64_t b = m.face_vertex_begin[f.face], e = m.face_vertex_begin[f.face + 1];
+      out.put("{}({}", e - b, new_id[size_t(m.face_vertices[b])]);
+      for (int64_t k = b + 1; k < e; ++k) out.put(" {}", new_id[size_t(m.face_vertices[k])]);
+      out.put(")\n");
+    }
+    out.put(")\n");
+  });
+  write_atomically(dir / "owner", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "labelList", "owner", note);
+    out.put("{}\n(\n", faces.size());
+    for (const FoamFace& f : faces) out.put("{}\n", f.owner);
+    out.put(")\n");
+  });
+  write_atomically(dir / "neighbour", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "labelList", "neighbour", note);
+    out.put("{}\n(\n", internal);
+    for (size_t k = 0; k < internal; ++k) out.put("{}\n", faces[k].neighbour);
+    out.put(")\n");
+  });
+  write_atomically(dir / "boundary", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "polyBoundaryMesh", "boundary");
+    out.put("1\n(\n    walls\n    {{\n        type            wall;\n        inGroups        1(wall);\n"
+            "        nFaces          {};\n        startFace       {};\n    }}\n)\n",
+            faces.size() - internal, internal);
+  });
+  // One cellZone per cell kind, so a solver can tell the cells along protected edges apart.
+  write_atomically(dir / "cellZones", [&](std::ostream& os) {
+    Chunked out(os);
+    header(out, "regIOobject", "cellZones");
+    out.put("{}\n(\n", kZoneNames.size());
+    for (size_t k = 0; k < kZoneNames.size(); ++k) {
+      size_t n = 0;
+      for (CellKind kind : m.kinds) n += size_t(kind) == k;
+      out.put("{}\n{{\n    type cellZone;\ncellLabels      List<label> {}\n(\n", kZoneNames[k], n);
+      for (size_t c = 0; c < m.cell_count(); ++c)
+        if (size_t(m.kinds[c]) == k) out.put("{}\n", c);
+      out.put(")\n;\n}}\n");
+    }
+    out.put(")\n");
+  });
+  // DIR = CASE/constant/polyMesh: a case without system/ gets a minimal one.
+  const std::filesystem::path constant = std::filesystem::absolute(dir).lexically_normal().parent_path();
+  if (constant.filename() == "constant" && !std::filesystem::exists(constant.parent_path() / "system", ec))
+    write_minimal_system(constant.parent_path() / "system");
+}
+
+}  // namespace froth

@@ -1,0 +1,195 @@
+"""The solver formats, read back by readers that are not froth: VTK for the VTU, OpenFOAM's
+checkMesh for the polyMesh, numpy for the facet graph (.npz) and the peridynamic nodes. For a box,
+the unit sphere, non-convex parts and a graded part: the same cells, volumes (1e-12), faces and
+neighbour pairs in every format; the facet graph's areas close each cell and sum to the surface.
+Run with Debian's /usr/bin/python3. Usage: test_formats.py FROTH MODELS_DIR"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+FROTH, MODELS = sys.argv[1], sys.argv[2]
+CHECKMESH = shutil.which("checkMesh") or "/usr/bin/checkMesh"
+failures, passed = [], 0
+
+
+def check(cond, what):
+    global passed
+    if cond:
+        passed += 1
+    else:
+        failures.append(what)
+        print("FAIL:", what)
+
+
+def checkmesh(case):
+    """OpenFOAM's checkMesh, in the environment Debian's OpenFOAM sets up."""
+    return subprocess.run(["bash", "-c", 'source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case "$0"', case],
+                          capture_output=True, text=True)
+
+
+def froth(*args):
+    return subprocess.run([FROTH, *args], capture_output=True, text=True)
+
+
+def vtu_cells(path):
+    """Per cell its volume and faces (tuples of point ids), from VTK's reader."""
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    g = r.GetOutput()
+    points = vtk_to_numpy(g.GetPoints().GetData())
+    volumes = vtk_to_numpy(g.GetCellData().GetArray("volume"))
+    faces = []
+    for c in range(g.GetNumberOfCells()):
+        ids = vtk.vtkIdList()
+        g.GetFaceStream(c, ids)
+        stream = [ids.GetId(k) for k in range(ids.GetNumberOfIds())]
+        cell, k = [], 1
+        for _ in range(stream[0]):
+            n = stream[k]
+            cell.append(tuple(stream[k + 1:k + 1 + n]))
+            k += 1 + n
+        faces.append(cell)
+    return points, volumes, faces
+
+
+def polygon_area(p):
+    n = np.zeros(3)
+    for k in range(len(p)):
+        n += np.cross(p[k], p[(k + 1) % len(p)])
+    return np.linalg.norm(n) / 2
+
+
+def neighbour_pairs(faces):
+    """Interior faces as (cell, cell) pairs with multiplicity, from faces sharing their vertices."""
+    owner = {}
+    pairs = []
+    for c, cell in enumerate(faces):
+        for f in cell:
+            key = frozenset(f)
+            if key in owner:
+                pairs.append(tuple(sorted((owner.pop(key), c))))
+            else:
+                owner[key] = c
+    return sorted(pairs), len(owner)
+
+
+def foam_list(path):
+    text = open(path).read()
+    body = text[text.index("}", text.index("FoamFile")) + 1:]
+    m = re.search(r"(\d+)\s*\(", body)
+    n = int(m.group(1))
+    return [int(v) for v in body[m.end():].split()[:n]]
+
+
+tmp = tempfile.mkdtemp(prefix="froth_formats_")
+cases = [
+    ("box", "box:0,0,0,1,1,1", ["-r", "0.12"], True),
+    ("sphere", os.path.join(MODELS, "unit_sphere.STL"), ["-r", "0.25"], False),
+    ("fichera", os.path.join(MODELS, "7_8ths_cube.stl"), ["-r", "6"], False),
+    ("hollow", os.path.join(MODELS, "hollow_sphere.off"), ["-r", "0.08"], False),
+    ("graded tube", os.path.join(MODELS, "round.stl"), ["-r", "3.0585", "--grade"], False),
+]
+for name, model, radius, convex_box in cases:
+    base = os.path.join(tmp, name.replace(" ", "_"))
+    os.makedirs(base)
+    args = ["mesh", model, *radius, "--seed", "3"]
+    vtu, npz, nodes, foam = (os.path.join(base, f) for f in ("m.vtu", "m.npz", "m.nodes", "case/constant/polyMesh"))
+    report = os.path.join(base, "m.json")
+    ok = True
+    for out in (vtu, npz, nodes, foam):
+        p = froth(*args, "-o", out, *(["--report", report] if out == vtu else []))
+        check(p.returncode == 0, f"{name}: -o {os.path.basename(out)}: {p.returncode} {p.stderr}")
+        ok &= p.returncode == 0
+    if not ok:
+        continue
+    import json
+    surface_area = json.load(open(report))["surface_area"] if "surface_area" in json.load(open(report)) else None
+    points, volumes, faces = vtu_cells(vtu)
+    n = len(volumes)
+    pairs, border = neighbour_pairs(faces)
+
+    # The facet graph.
+    g = np.load(npz)
+    check(int(g["format_version"][0]) == 1, f"{name}: facet graph version")
+    check(len(g["cell_volume"]) == n and np.allclose(g["cell_volume"], volumes, rtol=1e-12, atol=0),
+          f"{name}: facet graph volumes")
+    fc = g["face_cells"]
+    check(sorted(map(tuple, fc.tolist())) == pairs, f"{name}: facet graph neighbour pairs differ from the VTU's")
+    check(len(g["border_cell"]) == border, f"{name}: facet graph border faces {len(g['border_cell'])} vs {border}")
+    # Areas: each cell's faces (interior ones from both sides, border ones) sum to its surface.
+    area = np.zeros(n)
+    np.add.at(area, fc[:, 0], g["face_area"])
+    np.add.at(area, fc[:, 1], g["face_area"])
+    np.add.at(area, g["border_cell"], g["border_area"])
+    vtu_area = np.array([sum(polygon_area(points[list(f)]) for f in cell) for cell in faces])
+    check(np.allclose(area, vtu_area, rtol=1e-9), f"{name}: facet graph areas do not close the cells")
+    if surface_area:
+        check(abs(g["border_area"].sum() - surface_area) <= 1e-9 * surface_area,
+              f"{name}: border area {g['border_area'].sum()} vs surface {surface_area}")
+    normals = g["face_normal"]
+    check(np.allclose(np.linalg.norm(normals, axis=1), 1, atol=1e-9), f"{name}: face normals are not unit")
+    # The normal points from the first cell's seed side to the second's.
+    d = g["cell_seed"][fc[:, 1]] - g["cell_seed"][fc[:, 0]]
+    check(np.all(np.einsum("ij,ij->i", d, normals) >= 0), f"{name}: a face normal points into its first cell")
+    # The peridynamic nodes: one per cell, its volume, its centroid the facet graph's.
+    nd = np.loadtxt(nodes)
+    check(nd.shape == (n, 5) and np.allclose(nd[:, 4], volumes, rtol=1e-12, atol=0) and np.all(nd[:, 3] == 1),
+          f"{name}: peridynamic nodes {nd.shape}")
+    check(np.allclose(nd[:, :3], g["cell_centroid"], rtol=0, atol=1e-12 * np.abs(points).max()),
+          f"{name}: node positions are not the cell centroids")
+
+    # OpenFOAM: owner < neighbour, upper-triangular, the VTU's pairs; checkMesh's verdict.
+    owner, neighbour = foam_list(os.path.join(foam, "owner")), foam_list(os.path.join(foam, "neighbour"))
+    internal = list(zip(owner[:len(neighbour)], neighbour))
+    check(all(a < b for a, b in internal), f"{name}: an owner is not below its neighbour")
+    check(internal == sorted(internal), f"{name}: interior faces not in upper-triangular order")
+    check(sorted(internal) == pairs, f"{name}: OpenFOAM neighbour pairs differ from the VTU's")
+    check(len(owner) - len(neighbour) == border, f"{name}: OpenFOAM border faces")
+    if os.path.exists(CHECKMESH):
+        p = checkmesh(os.path.join(base, "case"))
+        out = p.stdout
+        cells = re.search(r"cells:\s+(\d+)", out)
+        check(cells and int(cells.group(1)) == n, f"{name}: checkMesh counts {cells and cells.group(1)} cells, not {n}")
+        for line in ("Boundary definition OK", "Cell to face addressing OK", "Point usage OK",
+                     "Upper triangular ordering OK", "Face vertices OK", "Cell volumes OK"):
+            check(line in out, f"{name}: checkMesh does not say '{line}'")
+        check(re.search(r"Max cell openness = \S+ OK", out) is not None, f"{name}: checkMesh: cells not closed")
+        total = re.search(r"Total volume = (\S+)\.\s", out)
+        check(total and abs(float(total.group(1)) - volumes.sum()) <= 1e-5 * volumes.sum(),
+              f"{name}: checkMesh total volume {total and total.group(1)}")
+        failed = re.findall(r"\*\*\*(.*)", out)
+        print(f"{name}: {n} cells; checkMesh: {'Mesh OK' if 'Mesh OK' in out else 'failed: ' + '; '.join(failed)}")
+        if convex_box:
+            check("Mesh OK" in out, f"{name}: checkMesh does not say Mesh OK: {failed}")
+        # Only the geometric checks that non-convex and boundary-skewed cells fail may fail.
+        allowed = ("face pyramids", "skewness", "concave cells", "non-orthogonal")
+        check(all(any(a in f for a in allowed) for f in failed), f"{name}: checkMesh failed a topological check: {failed}")
+    else:
+        failures.append("checkMesh not found (Debian package openfoam)")
+
+    # froth convert gives the same files from the VTU as froth mesh gave directly.
+    converted = os.path.join(base, "c.npz")
+    p = froth("convert", vtu, "-o", converted)
+    check(p.returncode == 0, f"{name}: froth convert: {p.returncode} {p.stderr}")
+    if p.returncode == 0:
+        c = np.load(converted)
+        check(all(np.array_equal(c[k], g[k], equal_nan=True) for k in g.files if k != "border_plane"),
+              f"{name}: froth convert's facet graph differs from froth mesh's")
+
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", os.path.join(tmp, "x.exo2"))
+check(p.returncode == 2 and "polyMesh" in p.stderr, f"unknown format: {p.returncode} {p.stderr}")
+
+print(f"{passed} passed, {len(failures)} failed")
+if failures:
+    print(f"outputs kept in {tmp}")
+else:
+    shutil.rmtree(tmp)
+sys.exit(1 if failures else 0)
