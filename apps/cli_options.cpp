@@ -68,8 +68,8 @@ void refuse_unknown_mesh_format(const std::string& option, const std::string& pa
   if (froth::mesh_format_of(path) != froth::MeshFormat::Unknown) return;
   std::string ext = std::filesystem::path(path).extension().string();
   froth::fail(froth::ErrorKind::Usage,
-              fmt::format("{} {}: froth cannot write {} files; it writes OUT.vtu ({}), a folder named polyMesh "
-                          "(OpenFOAM), OUT.npz (a facet graph numpy reads) and OUT.nodes (peridynamic nodes)",
+              fmt::format("{} {}: froth cannot write {} files; it writes OUT.vtu ({}), OUT.exo (Exodus II), a "
+                          "folder named polyMesh (OpenFOAM), OUT.npz (a facet graph numpy reads) and OUT.nodes (peridynamic nodes)",
                           option, path, ext.empty() ? "extensionless" : ext, kVtuDescription));
 }
 

@@ -31,9 +31,15 @@ void write_facet_graph(const PolyMesh& mesh, const std::filesystem::path& path);
 // cell's centroid, block 1), which PeriLab reads too.
 void write_peridynamic_nodes(const PolyMesh& mesh, const std::filesystem::path& path);
 
-// What write_mesh writes for an output path: NAME.vtu, a folder named polyMesh (OpenFOAM),
-// NAME.npz (facet graph) or NAME.nodes (peridynamic nodes).
-enum class MeshFormat { Vtu, OpenFoam, FacetGraph, PeridynamicNodes, Unknown };
+// Exodus II (.exo, .e): an NSIDED face block with every face once, NFACED element blocks by
+// cell kind (ids 1-4: interior, fringe, edge, vertex), the cell data as element variables at
+// t = 0, side set 1 "walls" of the border faces, double-precision coordinates (see
+// docs/design.md). Usage error if froth was built without libexodusii.
+void write_exodus(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path);
+
+// What write_mesh writes for an output path: NAME.vtu, NAME.exo or NAME.e (Exodus II), a folder
+// named polyMesh (OpenFOAM), NAME.npz (facet graph) or NAME.nodes (peridynamic nodes).
+enum class MeshFormat { Vtu, OpenFoam, FacetGraph, PeridynamicNodes, Exodus, Unknown };
 MeshFormat mesh_format_of(const std::filesystem::path& path);
 
 // The mesh in the format its path names (mesh_format_of); Usage error for an unknown one.

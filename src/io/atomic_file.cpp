@@ -134,6 +134,26 @@ void write_atomically(const std::filesystem::path& requested, const std::functio
   forget(tmp);
 }
 
+void write_atomically_by_name(const std::filesystem::path& path,
+                              const std::function<void(const std::filesystem::path& tmp)>& write) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a file to write", path.string()));
+  std::filesystem::path tmp = path;
+  tmp += fmt::format(".tmp{}", ::getpid());
+  remember(tmp);
+  try {
+    write(tmp);
+  } catch (...) {
+    std::filesystem::remove(tmp, ec);
+    forget(tmp);
+    throw;
+  }
+  if (g_group) return g_group->defer(tmp, path);
+  rename_into_place(tmp, path);
+  forget(tmp);
+}
+
 OutputGroup::OutputGroup() : outer_(g_group) { g_group = this; }
 
 OutputGroup::~OutputGroup() {

@@ -13,4 +13,10 @@ namespace froth {
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
+// The same for a writer that opens files by name (a library such as Exodus II): `write` is given
+// the temporary path to create; it is renamed into place (or deferred, in an OutputGroup) when
+// `write` returns, and removed when it throws.
+void write_atomically_by_name(const std::filesystem::path& path,
+                              const std::function<void(const std::filesystem::path& tmp)>& write);
+
 }  // namespace froth

@@ -18,6 +18,7 @@ MeshFormat mesh_format_of(const std::filesystem::path& path) {
   if (ext == ".vtu") return MeshFormat::Vtu;
   if (ext == ".npz") return MeshFormat::FacetGraph;
   if (ext == ".nodes") return MeshFormat::PeridynamicNodes;
+  if (ext == ".exo" || ext == ".e") return MeshFormat::Exodus;
   return MeshFormat::Unknown;
 }
 
@@ -28,10 +29,12 @@ void write_mesh(const PolyMesh& mesh, const RunReport& run, const std::filesyste
     case MeshFormat::OpenFoam: return write_openfoam(mesh, path);
     case MeshFormat::FacetGraph: return write_facet_graph(mesh, path);
     case MeshFormat::PeridynamicNodes: return write_peridynamic_nodes(mesh, path);
+    case MeshFormat::Exodus: return write_exodus(mesh, run, path);
     case MeshFormat::Unknown: break;
   }
-  fail(ErrorKind::Usage, fmt::format("{}: froth cannot write this format; it writes NAME.vtu (VTK), a folder named "
-                                     "polyMesh (OpenFOAM), NAME.npz (facet graph) and NAME.nodes (peridynamic nodes)",
+  fail(ErrorKind::Usage, fmt::format("{}: froth cannot write this format; it writes NAME.vtu (VTK), NAME.exo or "
+                                     "NAME.e (Exodus II), a folder named polyMesh (OpenFOAM), NAME.npz (facet graph) "
+                                     "and NAME.nodes (peridynamic nodes)",
                                      path.string()));
 }
 

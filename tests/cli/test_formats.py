@@ -81,6 +81,41 @@ def neighbour_pairs(faces):
     return sorted(pairs), len(owner)
 
 
+def exodus_cells(path):
+    """Per froth cell id: its element variables, and its faces as tuples of global node ids."""
+    r = vtk.vtkExodusIIReader()
+    r.SetFileName(path)
+    r.UpdateInformation()
+    r.SetAllArrayStatus(vtk.vtkExodusIIReader.ELEM_BLOCK, 1)
+    for i in range(r.GetNumberOfElementResultArrays()):
+        r.SetElementResultArrayStatus(r.GetElementResultArrayName(i), 1)
+    r.GenerateGlobalNodeIdArrayOn()
+    r.Update()
+    cells, faces = {}, {}
+    it = r.GetOutput().NewIterator()
+    it.InitTraversal()
+    while not it.IsDoneWithTraversal():
+        ds = it.GetCurrentDataObject()
+        cd = ds.GetCellData()
+        ids = vtk_to_numpy(cd.GetArray("cell_id")).astype(int)
+        vol = vtk_to_numpy(cd.GetArray("volume"))
+        seed = vtk_to_numpy(cd.GetArray("seed"))
+        gid = vtk_to_numpy(ds.GetPointData().GetArray("GlobalNodeId"))
+        for k in range(ds.GetNumberOfCells()):
+            stream = vtk.vtkIdList()
+            ds.GetFaceStream(k, stream)
+            st = [stream.GetId(j) for j in range(stream.GetNumberOfIds())]
+            cell, j = [], 1
+            for _ in range(st[0]):
+                m = st[j]
+                cell.append(tuple(int(gid[v]) for v in st[j + 1:j + 1 + m]))
+                j += 1 + m
+            cells[ids[k]] = {"volume": vol[k], "seed": seed[k]}
+            faces[ids[k]] = cell
+        it.GoToNextItem()
+    return cells, faces
+
+
 def foam_list(path):
     text = open(path).read()
     body = text[text.index("}", text.index("FoamFile")) + 1:]
@@ -101,10 +136,11 @@ for name, model, radius, convex_box in cases:
     base = os.path.join(tmp, name.replace(" ", "_"))
     os.makedirs(base)
     args = ["mesh", model, *radius, "--seed", "3"]
-    vtu, npz, nodes, foam = (os.path.join(base, f) for f in ("m.vtu", "m.npz", "m.nodes", "case/constant/polyMesh"))
+    vtu, npz, nodes, foam, exo = (os.path.join(base, f) for f in ("m.vtu", "m.npz", "m.nodes", "case/constant/polyMesh",
+                                                                  "m.exo"))
     report = os.path.join(base, "m.json")
     ok = True
-    for out in (vtu, npz, nodes, foam):
+    for out in (vtu, npz, nodes, foam, exo):
         p = froth(*args, "-o", out, *(["--report", report] if out == vtu else []))
         check(p.returncode == 0, f"{name}: -o {os.path.basename(out)}: {p.returncode} {p.stderr}")
         ok &= p.returncode == 0
@@ -145,6 +181,17 @@ for name, model, radius, convex_box in cases:
           f"{name}: peridynamic nodes {nd.shape}")
     check(np.allclose(nd[:, :3], g["cell_centroid"], rtol=0, atol=1e-12 * np.abs(points).max()),
           f"{name}: node positions are not the cell centroids")
+
+    # Exodus II through VTK's reader: every cell once (by cell_id), its volume, the seeds, and the
+    # VTU's neighbour pairs from the faces the NFACED elements share (global node ids).
+    ex_cells, ex_faces = exodus_cells(exo)
+    check(sorted(ex_cells) == list(range(1, n + 1)), f"{name}: Exodus cells {len(ex_cells)} vs {n}")
+    check(all(np.isclose(ex_cells[c]["volume"], volumes[c - 1], rtol=1e-12, atol=0) for c in ex_cells),
+          f"{name}: Exodus volumes differ from the VTU's")
+    check(all(np.allclose(ex_cells[c]["seed"], g["cell_seed"][c - 1], rtol=0, atol=0) for c in ex_cells),
+          f"{name}: Exodus seeds differ")
+    ex_pairs, ex_border = neighbour_pairs([ex_faces[c] for c in sorted(ex_faces)])
+    check(ex_pairs == pairs and ex_border == border, f"{name}: Exodus neighbour pairs or border faces differ")
 
     # OpenFOAM: owner < neighbour, upper-triangular, the VTU's pairs; checkMesh's verdict.
     owner, neighbour = foam_list(os.path.join(foam, "owner")), foam_list(os.path.join(foam, "neighbour"))

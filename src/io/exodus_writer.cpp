@@ -1,0 +1,193 @@
+// Exodus II (Sandia's SEACAS format, Debian's libexodusii): one NSIDED face block holding every
+// face once (interior faces in the orientation out of their lower cell, border faces outward),
+// one NFACED element block per cell kind (interior, fringe, edge, vertex: ids 1 to 4, empty
+// kinds left out) whose elements list their faces, element variables for the cell data at one
+// time step (t = 0), side set 1 "walls" with the border faces as (element, local face), and
+// double-precision coordinates. Elements are numbered block by block; the element id map and the
+// variable cell_id give each element's froth cell number (from 1).
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "froth/error.hpp"
+#include "froth/io.hpp"
+#include "froth/quality.hpp"
+#include "io/atomic_file.hpp"
+
+#ifdef FROTH_EXODUS
+#include <exodusII.h>
+#endif
+
+namespace froth {
+
+#ifndef FROTH_EXODUS
+void write_exodus(const PolyMesh&, const RunReport&, const std::filesystem::path& path) {
+  fail(ErrorKind::Usage, fmt::format("{}: this froth was built without Exodus II (install Debian's libexodusii-dev "
+                                     "and build again)",
+                                     path.string()));
+}
+#else
+namespace {
+
+constexpr const char* kKindNames[] = {"interior", "fringe", "edge", "vertex"};
+
+void check(int status, const std::filesystem::path& path, const char* what) {
+  if (status < 0) fail(ErrorKind::Io, fmt::format("{}: Exodus II could not write {} (error {})", path.string(), what, status));
+}
+
+}  // namespace
+
+void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem::path& path) {
+  const size_t n = m.cell_count();
+  if (m.face_vertices.size() > size_t(INT32_MAX) || m.face_count() > size_t(INT32_MAX))
+    fail(ErrorKind::Usage, "this mesh is too large for Exodus II's 32-bit connectivity");
+  // Every face once: its id (from 1) for each cell face, and the cells' local face of each
+  // border face (for the side set).
+  std::vector<int32_t> face_id(m.face_count(), 0);
+  std::vector<int> face_nodes_count;
+  std::vector<int> face_nodes;
+  for (size_t c = 0; c < n; ++c)
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = m.face_generator[f];
+      if (is_other_piece_generator(g))
+        fail(ErrorKind::Usage, "an Exodus II mesh needs the whole mesh, not one rank's piece of a partitioned run");
+      if (g >= 0 && size_t(g) < c) continue;  // the twin, numbered from the lower cell
+      face_id[size_t(f)] = int32_t(face_nodes_count.size() + 1);
+      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+      face_nodes_count.push_back(int(e - b));
+      for (int64_t k = b; k < e; ++k) face_nodes.push_back(m.face_vertices[k] + 1);
+    }
+  // A face toward a lower cell takes its twin's number there (the face with the same points).
+  for (size_t c = 0; c < n; ++c)
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = m.face_generator[f];
+      if (g < 0 || size_t(g) >= c) continue;
+      std::vector<int32_t> mine(m.face_vertices.begin() + m.face_vertex_begin[f],
+                                m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
+      std::sort(mine.begin(), mine.end());
+      for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && face_id[size_t(f)] == 0; ++h) {
+        if (m.face_generator[h] != int32_t(c)) continue;
+        std::vector<int32_t> theirs(m.face_vertices.begin() + m.face_vertex_begin[h],
+                                    m.face_vertices.begin() + m.face_vertex_begin[h + 1]);
+        std::sort(theirs.begin(), theirs.end());
+        if (theirs == mine) face_id[size_t(f)] = face_id[size_t(h)];
+      }
+      if (face_id[size_t(f)] == 0)
+        fail(ErrorKind::Internal, fmt::format("cell {}: a face toward cell {} has no twin there", c, g));
+    }
+
+  // Elements by kind; within a kind, in cell order.
+  std::vector<size_t> order;
+  std::vector<int64_t> per_kind(4, 0);
+  for (int k = 0; k < 4; ++k)
+    for (size_t c = 0; c < n; ++c)
+      if (int(m.kinds[c]) == k) order.push_back(c), ++per_kind[size_t(k)];
+  int blocks = 0;
+  for (int64_t count : per_kind) blocks += count > 0;
+  std::vector<int> side_elements, side_faces;
+  std::vector<size_t> element_of(n);
+  for (size_t e = 0; e < n; ++e) element_of[order[e]] = e;
+  for (size_t c = 0; c < n; ++c)
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
+      if (is_border_generator(m.face_generator[f]))
+        side_elements.push_back(int(element_of[c] + 1)), side_faces.push_back(int(f - m.cell_face_begin[c] + 1));
+
+  write_atomically_by_name(path, [&](const std::filesystem::path& tmp) {
+    int word = 8, io_word = 8;
+    const int exo = ex_create(tmp.c_str(), EX_CLOBBER, &word, &io_word);
+    if (exo < 0) fail(ErrorKind::Io, fmt::format("{}: Exodus II cannot create the file", path.string()));
+    struct Closer {
+      int id;
+      ~Closer() { ex_close(id); }
+    } closer{exo};
+    ex_init_params p{};
+    fmt::format_to_n(p.title, MAX_LINE_LENGTH, "froth {} r = {} seed {}", FROTH_VERSION, run.r, run.seed);
+    p.num_dim = 3;
+    p.num_nodes = int64_t(m.points.size());
+    p.num_face = int64_t(face_nodes_count.size());
+    p.num_face_blk = 1;
+    p.num_elem = int64_t(n);
+    p.num_elem_blk = blocks;
+    p.num_side_sets = 1;
+    check(ex_put_init_ext(exo, &p), path, "the header");
+    std::vector<double> x(m.points.size()), y(m.points.size()), z(m.points.size());
+    for (size_t v = 0; v < m.points.size(); ++v) x[v] = m.points[v].x, y[v] = m.points[v].y, z[v] = m.points[v].z;
+    check(ex_put_coord(exo, x.data(), y.data(), z.data()), path, "the coordinates");
+    const char* axes[] = {"x", "y", "z"};
+    check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
+
+    check(ex_put_block(exo, EX_FACE_BLOCK, 1, "NSIDED", p.num_face, int64_t(face_nodes.size()), 0, 0, 0), path,
+          "the face block");
+    check(ex_put_conn(exo, EX_FACE_BLOCK, 1, face_nodes.data(), nullptr, nullptr), path, "the faces");
+    check(ex_put_entity_count_per_polyhedra(exo, EX_FACE_BLOCK, 1, face_nodes_count.data()), path, "the face sizes");
+    size_t first = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (per_kind[size_t(k)] == 0) continue;
+      std::vector<int> faces_of, faces;
+      for (size_t e = first; e < first + size_t(per_kind[size_t(k)]); ++e) {
+        const size_t c = order[e];
+        faces_of.push_back(int(m.cell_face_begin[c + 1] - m.cell_face_begin[c]));
+        for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) faces.push_back(face_id[size_t(f)]);
+      }
+      check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0, int64_t(faces.size()), 0),
+            path, "an element block");
+      check(ex_put_conn(exo, EX_ELEM_BLOCK, k + 1, nullptr, nullptr, faces.data()), path, "an element block's faces");
+      check(ex_put_entity_count_per_polyhedra(exo, EX_ELEM_BLOCK, k + 1, faces_of.data()), path,
+            "an element block's face counts");
+      check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, kKindNames[k]), path, "a block name");
+      first += size_t(per_kind[size_t(k)]);
+    }
+    std::vector<int> ids(n);
+    for (size_t e = 0; e < n; ++e) ids[e] = int(order[e] + 1);
+    check(ex_put_id_map(exo, EX_ELEM_MAP, ids.data()), path, "the element id map");
+    check(ex_put_set_param(exo, EX_SIDE_SET, 1, int64_t(side_elements.size()), 0), path, "the side set");
+    check(ex_put_set(exo, EX_SIDE_SET, 1, side_elements.data(), side_faces.data()), path, "the side set's faces");
+    check(ex_put_name(exo, EX_SIDE_SET, 1, "walls"), path, "the side set's name");
+
+    // Element variables: the VTU's cell data, one value per component.
+    std::vector<std::pair<std::string, std::vector<double>>> vars;
+    auto add = [&](const std::string& name, auto value) {
+      std::vector<double> v(n);
+      for (size_t c = 0; c < n; ++c) v[c] = value(c);
+      vars.push_back({name, std::move(v)});
+    };
+    add("cell_id", [&](size_t c) { return double(c + 1); });
+    add("kind", [&](size_t c) { return double(int(m.kinds[c])); });
+    add("volume", [&](size_t c) { return m.volumes[c]; });
+    add("seedX", [&](size_t c) { return m.seeds[c].x; });
+    add("seedY", [&](size_t c) { return m.seeds[c].y; });
+    add("seedZ", [&](size_t c) { return m.seeds[c].z; });
+    add("centerX", [&](size_t c) { return m.center_of(c).x; });
+    add("centerY", [&](size_t c) { return m.center_of(c).y; });
+    add("centerZ", [&](size_t c) { return m.center_of(c).z; });
+    add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
+    add("piece", [&](size_t c) { return double(m.piece_of(c)); });
+    if (m.quality.size() == n) {
+      add("aspect", [&](size_t c) { return m.quality[c].aspect; });
+      add("outradius", [&](size_t c) { return m.quality[c].outradius; });
+      add("inradius", [&](size_t c) { return m.quality[c].inradius; });
+      add("min_dihedral", [&](size_t c) { return m.quality[c].min_dihedral; });
+      add("max_dihedral", [&](size_t c) { return m.quality[c].max_dihedral; });
+      add("min_edge", [&](size_t c) { return m.quality[c].min_edge; });
+    }
+    check(ex_put_variable_param(exo, EX_ELEM_BLOCK, int(vars.size())), path, "the variables");
+    for (size_t v = 0; v < vars.size(); ++v)
+      check(ex_put_variable_name(exo, EX_ELEM_BLOCK, int(v + 1), vars[v].first.c_str()), path, "a variable name");
+    const double time = 0;
+    check(ex_put_time(exo, 1, &time), path, "the time step");
+    first = 0;
+    for (int k = 0; k < 4; ++k) {
+      if (per_kind[size_t(k)] == 0) continue;
+      std::vector<double> values(static_cast<size_t>(per_kind[size_t(k)]));
+      for (size_t v = 0; v < vars.size(); ++v) {
+        for (size_t e = 0; e < values.size(); ++e) values[e] = vars[v].second[order[first + e]];
+        check(ex_put_var(exo, 1, EX_ELEM_BLOCK, int(v + 1), k + 1, per_kind[size_t(k)], values.data()), path,
+              "a variable");
+      }
+      first += size_t(per_kind[size_t(k)]);
+    }
+  });
+}
+#endif
+
+}  // namespace froth
