@@ -16,6 +16,7 @@
 
 #ifdef FROTH_EXODUS
 #include <exodusII.h>
+#include <netcdf.h>
 #endif
 
 namespace froth {
@@ -33,6 +34,37 @@ constexpr const char* kKindNames[] = {"interior", "fringe", "edge", "vertex"};
 
 void check(int status, const std::filesystem::path& path, const char* what) {
   if (status < 0) fail(ErrorKind::Io, fmt::format("{}: Exodus II could not write {} (error {})", path.string(), what, status));
+}
+
+// The VTU's cell data, one variable per component, in cell order.
+std::vector<std::pair<std::string, std::vector<double>>> element_variables(const PolyMesh& m) {
+  const size_t n = m.cell_count();
+  std::vector<std::pair<std::string, std::vector<double>>> vars;
+  auto add = [&](const std::string& name, auto value) {
+    std::vector<double> v(n);
+    for (size_t c = 0; c < n; ++c) v[c] = value(c);
+    vars.push_back({name, std::move(v)});
+  };
+  add("cell_id", [&](size_t c) { return double(c + 1); });
+  add("kind", [&](size_t c) { return double(int(m.kinds[c])); });
+  add("volume", [&](size_t c) { return m.volumes[c]; });
+  add("seedX", [&](size_t c) { return m.seeds[c].x; });
+  add("seedY", [&](size_t c) { return m.seeds[c].y; });
+  add("seedZ", [&](size_t c) { return m.seeds[c].z; });
+  add("centerX", [&](size_t c) { return m.center_of(c).x; });
+  add("centerY", [&](size_t c) { return m.center_of(c).y; });
+  add("centerZ", [&](size_t c) { return m.center_of(c).z; });
+  add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
+  add("piece", [&](size_t c) { return double(m.piece_of(c)); });
+  if (m.quality.size() == n) {
+    add("aspect", [&](size_t c) { return m.quality[c].aspect; });
+    add("outradius", [&](size_t c) { return m.quality[c].outradius; });
+    add("inradius", [&](size_t c) { return m.quality[c].inradius; });
+    add("min_dihedral", [&](size_t c) { return m.quality[c].min_dihedral; });
+    add("max_dihedral", [&](size_t c) { return m.quality[c].max_dihedral; });
+    add("min_edge", [&](size_t c) { return m.quality[c].min_edge; });
+  }
+  return vars;
 }
 
 }  // namespace
@@ -57,23 +89,30 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       face_nodes_count.push_back(int(e - b));
       for (int64_t k = b; k < e; ++k) face_nodes.push_back(m.face_vertices[k] + 1);
     }
-  // A face toward a lower cell takes its twin's number there (the face with the same points).
+  // A face toward a lower cell takes its twin's number there: the one face of that cell toward
+  // this one, or where two cells share several faces (a cell wrapped around a thin feature), the
+  // one with the same points.
+  auto points_of = [&](int64_t f) {
+    std::vector<int32_t> v(m.face_vertices.begin() + m.face_vertex_begin[f],
+                           m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
+    std::sort(v.begin(), v.end());
+    return v;
+  };
   for (size_t c = 0; c < n; ++c)
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
       const int32_t g = m.face_generator[f];
       if (g < 0 || size_t(g) >= c) continue;
-      std::vector<int32_t> mine(m.face_vertices.begin() + m.face_vertex_begin[f],
-                                m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
-      std::sort(mine.begin(), mine.end());
-      for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && face_id[size_t(f)] == 0; ++h) {
-        if (m.face_generator[h] != int32_t(c)) continue;
-        std::vector<int32_t> theirs(m.face_vertices.begin() + m.face_vertex_begin[h],
-                                    m.face_vertices.begin() + m.face_vertex_begin[h + 1]);
-        std::sort(theirs.begin(), theirs.end());
-        if (theirs == mine) face_id[size_t(f)] = face_id[size_t(h)];
+      int64_t twin = -1, candidates = 0;
+      for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1]; ++h)
+        if (m.face_generator[h] == int32_t(c)) twin = h, ++candidates;
+      if (candidates > 1) {
+        const std::vector<int32_t> mine = points_of(f);
+        twin = -1;
+        for (int64_t h = m.cell_face_begin[g]; h < m.cell_face_begin[g + 1] && twin < 0; ++h)
+          if (m.face_generator[h] == int32_t(c) && points_of(h) == mine) twin = h;
       }
-      if (face_id[size_t(f)] == 0)
-        fail(ErrorKind::Internal, fmt::format("cell {}: a face toward cell {} has no twin there", c, g));
+      if (twin < 0) fail(ErrorKind::Internal, fmt::format("cell {}: a face toward cell {} has no twin there", c, g));
+      face_id[size_t(f)] = face_id[size_t(twin)];
     }
 
   // Elements by kind; within a kind, in cell order.
@@ -94,12 +133,18 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
 
   write_atomically_by_name(path, [&](const std::filesystem::path& tmp) {
     int word = 8, io_word = 8;
-    const int exo = ex_create(tmp.c_str(), EX_CLOBBER, &word, &io_word);
+    // The netCDF-4 (HDF5) flavour of Exodus, as SEACAS writes by default: netCDF's classic
+    // format wrote the element variables 8 KB at a time, each byte many times over.
+    const int exo = ex_create(tmp.c_str(), EX_CLOBBER | EX_NETCDF4, &word, &io_word);
     if (exo < 0) fail(ErrorKind::Io, fmt::format("{}: Exodus II cannot create the file", path.string()));
     struct Closer {
       int id;
       ~Closer() { ex_close(id); }
     } closer{exo};
+    // No fill values: netCDF would otherwise write every record variable's fill in small pieces
+    // before its values (the Exodus id is the netCDF id).
+    int old_fill = 0;
+    nc_set_fill(exo, NC_NOFILL, &old_fill);
     ex_init_params p{};
     fmt::format_to_n(p.title, MAX_LINE_LENGTH, "froth {} r = {} seed {}", FROTH_VERSION, run.r, run.seed);
     p.num_dim = 3;
@@ -110,72 +155,54 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     p.num_elem_blk = blocks;
     p.num_side_sets = 1;
     check(ex_put_init_ext(exo, &p), path, "the header");
-    std::vector<double> x(m.points.size()), y(m.points.size()), z(m.points.size());
-    for (size_t v = 0; v < m.points.size(); ++v) x[v] = m.points[v].x, y[v] = m.points[v].y, z[v] = m.points[v].z;
-    check(ex_put_coord(exo, x.data(), y.data(), z.data()), path, "the coordinates");
-    const char* axes[] = {"x", "y", "z"};
-    check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
-
+    // Everything is defined before any bulk data is written: netCDF's classic format rewrites
+    // the whole file each time a definition follows data.
+    std::vector<std::vector<int>> faces_of(4), element_faces(4);
+    for (size_t e = 0, first = 0; e < 4; first += size_t(per_kind[e]), ++e)
+      for (size_t k = first; k < first + size_t(per_kind[e]); ++k) {
+        const size_t c = order[k];
+        faces_of[e].push_back(int(m.cell_face_begin[c + 1] - m.cell_face_begin[c]));
+        for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
+          element_faces[e].push_back(face_id[size_t(f)]);
+      }
     check(ex_put_block(exo, EX_FACE_BLOCK, 1, "NSIDED", p.num_face, int64_t(face_nodes.size()), 0, 0, 0), path,
           "the face block");
-    check(ex_put_conn(exo, EX_FACE_BLOCK, 1, face_nodes.data(), nullptr, nullptr), path, "the faces");
-    check(ex_put_entity_count_per_polyhedra(exo, EX_FACE_BLOCK, 1, face_nodes_count.data()), path, "the face sizes");
-    size_t first = 0;
-    for (int k = 0; k < 4; ++k) {
-      if (per_kind[size_t(k)] == 0) continue;
-      std::vector<int> faces_of, faces;
-      for (size_t e = first; e < first + size_t(per_kind[size_t(k)]); ++e) {
-        const size_t c = order[e];
-        faces_of.push_back(int(m.cell_face_begin[c + 1] - m.cell_face_begin[c]));
-        for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) faces.push_back(face_id[size_t(f)]);
-      }
-      check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0, int64_t(faces.size()), 0),
-            path, "an element block");
-      check(ex_put_conn(exo, EX_ELEM_BLOCK, k + 1, nullptr, nullptr, faces.data()), path, "an element block's faces");
-      check(ex_put_entity_count_per_polyhedra(exo, EX_ELEM_BLOCK, k + 1, faces_of.data()), path,
-            "an element block's face counts");
-      check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, kKindNames[k]), path, "a block name");
-      first += size_t(per_kind[size_t(k)]);
-    }
+    for (int k = 0; k < 4; ++k)
+      if (per_kind[size_t(k)] > 0)
+        check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0,
+                           int64_t(element_faces[size_t(k)].size()), 0),
+              path, "an element block");
+    check(ex_put_set_param(exo, EX_SIDE_SET, 1, int64_t(side_elements.size()), 0), path, "the side set");
+    const std::vector<std::pair<std::string, std::vector<double>>> vars = element_variables(m);
+    check(ex_put_variable_param(exo, EX_ELEM_BLOCK, int(vars.size())), path, "the variables");
     std::vector<int> ids(n);
     for (size_t e = 0; e < n; ++e) ids[e] = int(order[e] + 1);
     check(ex_put_id_map(exo, EX_ELEM_MAP, ids.data()), path, "the element id map");
-    check(ex_put_set_param(exo, EX_SIDE_SET, 1, int64_t(side_elements.size()), 0), path, "the side set");
-    check(ex_put_set(exo, EX_SIDE_SET, 1, side_elements.data(), side_faces.data()), path, "the side set's faces");
-    check(ex_put_name(exo, EX_SIDE_SET, 1, "walls"), path, "the side set's name");
 
-    // Element variables: the VTU's cell data, one value per component.
-    std::vector<std::pair<std::string, std::vector<double>>> vars;
-    auto add = [&](const std::string& name, auto value) {
-      std::vector<double> v(n);
-      for (size_t c = 0; c < n; ++c) v[c] = value(c);
-      vars.push_back({name, std::move(v)});
-    };
-    add("cell_id", [&](size_t c) { return double(c + 1); });
-    add("kind", [&](size_t c) { return double(int(m.kinds[c])); });
-    add("volume", [&](size_t c) { return m.volumes[c]; });
-    add("seedX", [&](size_t c) { return m.seeds[c].x; });
-    add("seedY", [&](size_t c) { return m.seeds[c].y; });
-    add("seedZ", [&](size_t c) { return m.seeds[c].z; });
-    add("centerX", [&](size_t c) { return m.center_of(c).x; });
-    add("centerY", [&](size_t c) { return m.center_of(c).y; });
-    add("centerZ", [&](size_t c) { return m.center_of(c).z; });
-    add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
-    add("piece", [&](size_t c) { return double(m.piece_of(c)); });
-    if (m.quality.size() == n) {
-      add("aspect", [&](size_t c) { return m.quality[c].aspect; });
-      add("outradius", [&](size_t c) { return m.quality[c].outradius; });
-      add("inradius", [&](size_t c) { return m.quality[c].inradius; });
-      add("min_dihedral", [&](size_t c) { return m.quality[c].min_dihedral; });
-      add("max_dihedral", [&](size_t c) { return m.quality[c].max_dihedral; });
-      add("min_edge", [&](size_t c) { return m.quality[c].min_edge; });
-    }
-    check(ex_put_variable_param(exo, EX_ELEM_BLOCK, int(vars.size())), path, "the variables");
+    const char* axes[] = {"x", "y", "z"};
+    check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
+    for (int k = 0; k < 4; ++k)
+      if (per_kind[size_t(k)] > 0) check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, kKindNames[k]), path, "a block name");
+    check(ex_put_name(exo, EX_SIDE_SET, 1, "walls"), path, "the side set's name");
     for (size_t v = 0; v < vars.size(); ++v)
       check(ex_put_variable_name(exo, EX_ELEM_BLOCK, int(v + 1), vars[v].first.c_str()), path, "a variable name");
+
+    std::vector<double> x(m.points.size()), y(m.points.size()), z(m.points.size());
+    for (size_t v = 0; v < m.points.size(); ++v) x[v] = m.points[v].x, y[v] = m.points[v].y, z[v] = m.points[v].z;
+    check(ex_put_coord(exo, x.data(), y.data(), z.data()), path, "the coordinates");
+    check(ex_put_conn(exo, EX_FACE_BLOCK, 1, face_nodes.data(), nullptr, nullptr), path, "the faces");
+    check(ex_put_entity_count_per_polyhedra(exo, EX_FACE_BLOCK, 1, face_nodes_count.data()), path, "the face sizes");
+    for (int k = 0; k < 4; ++k) {
+      if (per_kind[size_t(k)] == 0) continue;
+      check(ex_put_conn(exo, EX_ELEM_BLOCK, k + 1, nullptr, nullptr, element_faces[size_t(k)].data()), path,
+            "an element block's faces");
+      check(ex_put_entity_count_per_polyhedra(exo, EX_ELEM_BLOCK, k + 1, faces_of[size_t(k)].data()), path,
+            "an element block's face counts");
+    }
+    check(ex_put_set(exo, EX_SIDE_SET, 1, side_elements.data(), side_faces.data()), path, "the side set's faces");
     const double time = 0;
     check(ex_put_time(exo, 1, &time), path, "the time step");
-    first = 0;
+    size_t first = 0;
     for (int k = 0; k < 4; ++k) {
       if (per_kind[size_t(k)] == 0) continue;
       std::vector<double> values(static_cast<size_t>(per_kind[size_t(k)]));

@@ -10,6 +10,7 @@
 #include "froth/validate.hpp"
 #include "io/atomic_file.hpp"
 #include "io/npz_writer.hpp"
+#include "io/parallel_text.hpp"
 
 namespace froth {
 namespace {
@@ -66,8 +67,6 @@ Vec3 cell_centroid(const PolyMesh& m, size_t c) {
   return volume != 0 ? (1.0 / volume) * weighted : o;
 }
 
-void append(std::vector<double>& v, Vec3 p) { v.insert(v.end(), {p.x, p.y, p.z}); }
-
 // The mesh's volumes, or the cells' own where it has none (a VTU without froth's cell data).
 std::vector<double> volumes_of(const PolyMesh& m) {
   if (m.volumes.size() == m.cell_count()) return m.volumes;
@@ -80,42 +79,58 @@ std::vector<double> volumes_of(const PolyMesh& m) {
 
 void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
   const size_t n = m.cell_count();
-  std::vector<double> seed, centroid, volume = volumes_of(m);
+  std::vector<double> seed(3 * n), centroid(3 * n), volume = volumes_of(m);
   std::vector<int64_t> kind(n), region(n, 0), piece(n);
+  // Each cell's interior faces (toward a higher cell) and border faces counted, then every face
+  // filled in at its place, cells in parallel.
+  std::vector<int64_t> interior_at(n + 1, 0), border_at(n + 1, 0);
   for (size_t c = 0; c < n; ++c) {
-    append(seed, m.seeds[c]);
-    append(centroid, cell_centroid(m, c));
-    kind[c] = int64_t(m.kinds[c]);
-    piece[c] = m.piece_of(c);
-  }
-  std::vector<int64_t> face_cells, border_cell, border_patch, border_plane;
-  std::vector<double> face_area, face_centroid, face_normal, face_crossing, border_area, border_centroid, border_normal;
-  for (size_t c = 0; c < n; ++c)
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
       const int32_t g = m.face_generator[f];
       if (is_other_piece_generator(g))
         fail(ErrorKind::Usage, "a facet graph needs the whole mesh, not one rank's piece of a partitioned run");
+      interior_at[c + 1] += g >= 0 && size_t(g) > c;
+      border_at[c + 1] += is_border_generator(g);
+    }
+    interior_at[c + 1] += interior_at[c], border_at[c + 1] += border_at[c];
+  }
+  const size_t ni = size_t(interior_at[n]), nb = size_t(border_at[n]);
+  std::vector<int64_t> face_cells(2 * ni), border_cell(nb), border_patch(nb, 0), border_plane(nb);
+  std::vector<double> face_area(ni), face_centroid(3 * ni), face_normal(3 * ni), face_crossing(3 * ni),
+      border_area(nb), border_centroid(3 * nb), border_normal(3 * nb);
+  auto put = [](std::vector<double>& v, size_t i, Vec3 p) { v[3 * i] = p.x, v[3 * i + 1] = p.y, v[3 * i + 2] = p.z; };
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (size_t c = 0; c < n; ++c) {
+    put(seed, c, m.seeds[c]);
+    put(centroid, c, cell_centroid(m, c));
+    kind[c] = int64_t(m.kinds[c]);
+    piece[c] = m.piece_of(c);
+    size_t i = size_t(interior_at[c]), b = size_t(border_at[c]);
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = m.face_generator[f];
+      if (g >= 0 && size_t(g) < c) continue;  // each interior face once, from its lower cell
       const FaceGeometry geo = face_geometry(m, f);
       if (is_border_generator(g)) {
-        border_cell.push_back(int64_t(c));
-        border_patch.push_back(0);
-        border_plane.push_back(m.border_planes_known ? generator_plane(g) : -1);
-        border_area.push_back(geo.area);
-        append(border_centroid, geo.centroid);
-        append(border_normal, geo.normal);
+        border_cell[b] = int64_t(c);
+        border_plane[b] = m.border_planes_known ? generator_plane(g) : -1;
+        border_area[b] = geo.area;
+        put(border_centroid, b, geo.centroid);
+        put(border_normal, b, geo.normal);
+        ++b;
         continue;
       }
-      if (size_t(g) < c) continue;  // each interior face once, from its lower cell
-      face_cells.insert(face_cells.end(), {int64_t(c), int64_t(g)});
-      face_area.push_back(geo.area);
-      append(face_centroid, geo.centroid);
-      append(face_normal, geo.normal);
+      face_cells[2 * i] = int64_t(c), face_cells[2 * i + 1] = g;
+      face_area[i] = geo.area;
+      put(face_centroid, i, geo.centroid);
+      put(face_normal, i, geo.normal);
       // Where the segment between the two seeds meets the face's plane (a lattice model's bond
       // point; the two seeds of a seed's pieces coincide, and then there is none: NaN).
       const Vec3 a = m.seeds[c], d = m.seeds[size_t(g)] - m.seeds[c];
       const double t = dot(geo.centroid - a, geo.normal) / dot(d, geo.normal);
-      append(face_crossing, std::isfinite(t) ? a + t * d : Vec3{NAN, NAN, NAN});
+      put(face_crossing, i, std::isfinite(t) ? a + t * d : Vec3{NAN, NAN, NAN});
+      ++i;
     }
+  }
   write_atomically(path, [&](std::ostream& out) {
     NpzWriter npz(out);
     npz.add("format_version", std::vector<int64_t>{kFacetGraphVersion});
@@ -146,13 +161,13 @@ void write_peridynamic_nodes(const PolyMesh& m, const std::filesystem::path& pat
     // Peridigm's text discretization: one node per line, "x y z block_id volume", blocks from 1.
     out << "# x y z block_id volume\n";
     const std::vector<double> volume = volumes_of(m);
-    fmt::memory_buffer buf;
-    for (size_t c = 0; c < m.cell_count(); ++c) {
-      const Vec3 p = cell_centroid(m, c);
-      fmt::format_to(std::back_inserter(buf), "{:.17g} {:.17g} {:.17g} 1 {:.17g}\n", p.x, p.y, p.z, volume[c]);
-      if (buf.size() > (1 << 20)) out.write(buf.data(), std::streamsize(buf.size())), buf.clear();
-    }
-    out.write(buf.data(), std::streamsize(buf.size()));
+    std::vector<Vec3> at(m.cell_count());
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (size_t c = 0; c < m.cell_count(); ++c) at[c] = cell_centroid(m, c);
+    write_lines(out, m.cell_count(), [&](fmt::memory_buffer& buf, size_t c) {
+      fmt::format_to(std::back_inserter(buf), "{:.17g} {:.17g} {:.17g} 1 {:.17g}\n", at[c].x, at[c].y, at[c].z,
+                     volume[c]);
+    });
   });
 }
 

@@ -12,6 +12,7 @@
 #include "froth/error.hpp"
 #include "froth/io.hpp"
 #include "io/atomic_file.hpp"
+#include "io/parallel_text.hpp"
 
 namespace froth {
 namespace {
@@ -107,8 +108,9 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
     for (int64_t k = m.face_vertex_begin[f.face]; k < m.face_vertex_begin[f.face + 1]; ++k)
       new_id[size_t(m.face_vertices[k])] = 0;
   int32_t used = 0;
-  for (int32_t& id : new_id)
-    if (id == 0) id = used++;
+  std::vector<size_t> used_points;
+  for (size_t p = 0; p < new_id.size(); ++p)
+    if (new_id[p] == 0) new_id[p] = used++, used_points.push_back(p);
   const std::string note = fmt::format("nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}", used, m.cell_count(),
                                        faces.size(), internal);
   std::error_code ec;
@@ -119,34 +121,44 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
     Chunked out(os);
     header(out, "vectorField", "points");
     out.put("{}\n(\n", used);
-    for (size_t p = 0; p < m.points.size(); ++p)
-      if (new_id[p] >= 0) out.put("({:.17g} {:.17g} {:.17g})\n", m.points[p].x, m.points[p].y, m.points[p].z);
+    out.flush();
+    write_lines(os, used_points.size(), [&](fmt::memory_buffer& buf, size_t i) {
+      const Vec3 p = m.points[used_points[i]];
+      fmt::format_to(std::back_inserter(buf), "({:.17g} {:.17g} {:.17g})\n", p.x, p.y, p.z);
+    });
     out.put(")\n");
   });
   write_atomically(dir / "faces", [&](std::ostream& os) {
     Chunked out(os);
     header(out, "faceList", "faces");
     out.put("{}\n(\n", faces.size());
-    for (const FoamFace& f : faces) {
-      const int64_t b = m.face_vertex_begin[f.face], e = m.face_vertex_begin[f.face + 1];
-      out.put("{}({}", e - b, new_id[size_t(m.face_vertices[b])]);
-      for (int64_t k = b + 1; k < e; ++k) out.put(" {}", new_id[size_t(m.face_vertices[k])]);
-      out.put(")\n");
-    }
+    out.flush();
+    write_lines(os, faces.size(), [&](fmt::memory_buffer& buf, size_t i) {
+      const int64_t b = m.face_vertex_begin[faces[i].face], e = m.face_vertex_begin[faces[i].face + 1];
+      auto it = std::back_inserter(buf);
+      fmt::format_to(it, "{}({}", e - b, new_id[size_t(m.face_vertices[b])]);
+      for (int64_t k = b + 1; k < e; ++k) fmt::format_to(it, " {}", new_id[size_t(m.face_vertices[k])]);
+      fmt::format_to(it, ")\n");
+    });
     out.put(")\n");
   });
   write_atomically(dir / "owner", [&](std::ostream& os) {
     Chunked out(os);
     header(out, "labelList", "owner", note);
     out.put("{}\n(\n", faces.size());
-    for (const FoamFace& f : faces) out.put("{}\n", f.owner);
+    out.flush();
+    write_lines(os, faces.size(),
+                [&](fmt::memory_buffer& buf, size_t i) { fmt::format_to(std::back_inserter(buf), "{}\n", faces[i].owner); });
     out.put(")\n");
   });
   write_atomically(dir / "neighbour", [&](std::ostream& os) {
     Chunked out(os);
     header(out, "labelList", "neighbour", note);
     out.put("{}\n(\n", internal);
-    for (size_t k = 0; k < internal; ++k) out.put("{}\n", faces[k].neighbour);
+    out.flush();
+    write_lines(os, internal, [&](fmt::memory_buffer& buf, size_t i) {
+      fmt::format_to(std::back_inserter(buf), "{}\n", faces[i].neighbour);
+    });
     out.put(")\n");
   });
   write_atomically(dir / "boundary", [&](std::ostream& os) {
