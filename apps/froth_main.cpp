@@ -37,6 +37,7 @@ using froth_cli::Verbosity;
 struct MeshArgs : CommonArgs {
   std::string output;
   std::string report;
+  std::string boundary;  // --boundary: the border faces with their patches
   bool partition = false;
   double cells = 0;  // --cells: choose r for about this many (0: -r given)
   bool dry_run = false;
@@ -78,8 +79,10 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
 
 int run_mesh(const MeshArgs& given) {
   const std::string output = given.output.empty() ? default_output(given.input) : given.output;
-  froth_cli::refuse_same_files({{"the input", given.input}, {"-o", output}, {"--report", given.report}});
+  froth_cli::refuse_same_files(
+      {{"the input", given.input}, {"-o", output}, {"--report", given.report}, {"--boundary", given.boundary}});
   froth_cli::refuse_unknown_mesh_format("-o", output);
+  if (!given.boundary.empty()) froth_cli::refuse_unknown_format("--boundary", given.boundary, {".vtu"});
   froth::Domain domain = froth::load_domain(given.input, given.load_options());
   const MeshArgs a = with_radius(given, domain);
   froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
@@ -97,10 +100,13 @@ int run_mesh(const MeshArgs& given) {
   const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
   run.total_seconds += write_seconds;
+  if (!a.boundary.empty()) froth::write_boundary_vtu(mesh, a.boundary);
   if (!a.report.empty()) froth::write_report_json(run, a.report);
   outputs.commit();
   bar.clear();
-  fmt::print("{}", froth_cli::mesh_summary(run, written(output, a.report), a.verbosity()));
+  std::vector<std::string> files = written(output, a.report);
+  if (!a.boundary.empty()) files.push_back(a.boundary);
+  fmt::print("{}", froth_cli::mesh_summary(run, files, a.verbosity()));
   return 0;
 }
 
@@ -376,6 +382,9 @@ int froth_main(int argc, char** argv, const World& world) {
                    "output: OUT.vtu (default <input stem>.vtu), a folder named polyMesh (OpenFOAM), OUT.npz (facet "
                    "graph) or OUT.nodes (peridynamic nodes)");
   mesh->add_option("--report", a.report, "write a JSON run report here");
+  mesh->add_option("--boundary", a.boundary,
+                   "write the border faces here as a surface VTU with each face's patch (STL solid, OBJ group, or "
+                   "smooth region between feature curves)");
   mesh->add_flag("--partition", a.partition,
                  "split the mesh over the MPI ranks (slabs of the sampling grid along z); writes a .pvtu with one "
                  "piece per rank, the same cells as one process makes");

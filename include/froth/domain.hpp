@@ -18,6 +18,11 @@ namespace froth {
 struct TriangleSurface {
   std::vector<Vec3> vertices;                  // merged exactly (bit-equal coordinates)
   std::vector<std::array<int32_t, 3>> triangles;
+  // Named surface patches (boundary conditions go on them): each triangle's patch, an index
+  // into patch_names. From an ASCII STL's `solid` blocks or an OBJ's `g`/`o` groups; empty when
+  // the file names none (load_domain then splits the surface at its feature curves).
+  std::vector<int32_t> triangle_patch;
+  std::vector<std::string> patch_names;
 };
 
 // Reads binary or ASCII STL (ASCII may hold several `solid` blocks). Throws Error.

@@ -17,7 +17,8 @@ void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem
 
 // OpenFOAM polyMesh in the folder `dir` (points, faces, owner, neighbour, boundary, cellZones by
 // cell kind; ASCII): interior faces once, owner < neighbour, normals out of the owner, in
-// upper-triangular order; the border faces in one wall patch, "walls".
+// upper-triangular order; the border faces in one wall patch per input patch (mesh.patch_names,
+// made OpenFOAM words).
 void write_openfoam(const PolyMesh& mesh, const std::filesystem::path& dir);
 
 // The facet graph, a NumPy .npz archive (numpy.load reads it): per cell its seed, centroid,
@@ -45,6 +46,10 @@ MeshFormat mesh_format_of(const std::filesystem::path& path);
 // The mesh in the format its path names (mesh_format_of); Usage error for an unknown one.
 void write_mesh(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
                 const std::function<void(double)>& progress = {});
+
+// The border faces as a surface VTU (VTK_POLYGON cells) with cell data `patch` (into the field
+// data `patch_names`) and `cell` (the mesh cell each belongs to): a VTU holds no face data.
+void write_boundary_vtu(const PolyMesh& mesh, const std::filesystem::path& path);
 
 // The parallel VTU (.pvtu) that gathers the pieces of a partitioned run (froth/partition.hpp),
 // each written by write_vtu; `pieces` are their paths relative to the .pvtu's folder. The pieces

@@ -89,6 +89,11 @@ struct PolyMesh {
   double r = 0;  // the sampling radius; 0 if unknown (a VTU without froth's field data)
   std::optional<uint64_t> random_seed;  // the seed it was made with, where known
   bool border_planes_known = true;  // border faces name their domain facet plane (not read from a VTU)
+  // The input's surface patches (froth/domain.hpp's TriangleSurface) and each face's patch,
+  // -1 for interior faces; empty face_patch: every border face on patch 0.
+  std::vector<std::string> patch_names;
+  std::vector<int32_t> face_patch;
+  int32_t patch_of(size_t f) const { return face_patch.empty() ? 0 : face_patch[f]; }
   // Per cell: h < r at its seed or at a face neighbour's (quality.hpp's graded cells), worked
   // out where every neighbour is known (a partitioned run's cells with their ghost ring);
   // empty: from the radii.

@@ -13,6 +13,7 @@
 #include "common/surface_locator.hpp"
 #include "common/union_find.hpp"
 #include "features/features.hpp"
+#include "features/patches.hpp"
 #include "froth/error.hpp"
 
 namespace froth {
@@ -308,6 +309,13 @@ void check_feature_angle(double degrees) {
 void find_features(Domain& d, double feature_angle) {
   const SurfaceFeatures features = classify_features(d.surface, feature_angle);
   d.features = features.summary();
+  // A surface whose file names no patches gets one per smooth region between feature curves.
+  if (d.surface.patch_names.empty() || d.surface.triangle_patch.size() != d.surface.triangles.size()) {
+    size_t count = 0;
+    d.surface.triangle_patch = smooth_regions(d.surface, features, count);
+    d.surface.patch_names.clear();
+    for (size_t k = 0; k < count; ++k) d.surface.patch_names.push_back(fmt::format("surface_{}", k));
+  }
   if (!d.convex)
     for (const FeatureCurve& c : features.curves)
       if (c.cls == EdgeClass::Reflex) d.reflex_curves.push_back(c.vertices);

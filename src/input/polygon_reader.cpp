@@ -25,6 +25,8 @@ struct Soup {
   std::vector<Vec3> points;
   std::vector<int64_t> corners;            // vertex indices of all faces, 0-based
   std::vector<size_t> face_begin{0};       // into corners
+  std::vector<int32_t> face_group;         // OBJ: each face's group (g or o), into groups
+  std::vector<std::string> groups;
 };
 
 [[noreturn]] void bad(const std::string& file, const std::string& what) {
@@ -138,6 +140,13 @@ Soup read_obj(const std::string& file, const std::string& text) {
   Lines lines(text);
   std::string_view line;
   Soup s;
+  int32_t group = -1;
+  auto group_index = [&](const std::string& name) {
+    const auto it = std::find(s.groups.begin(), s.groups.end(), name);
+    if (it != s.groups.end()) return int32_t(it - s.groups.begin());
+    s.groups.push_back(name);
+    return int32_t(s.groups.size()) - 1;
+  };
   while (lines.next(line)) {
     const std::vector<std::string_view> w = words(line);
     if (w[0] == "v") {
@@ -152,6 +161,12 @@ Soup read_obj(const std::string& file, const std::string& text) {
         s.corners.push_back(i > 0 ? i - 1 : int64_t(s.points.size()) + i);
       }
       s.face_begin.push_back(s.corners.size());
+      if (group < 0) group = group_index("default");  // faces before the first group
+      s.face_group.push_back(group);
+    } else if ((w[0] == "g" || w[0] == "o") && w.size() > 1) {
+      std::string name(w[1]);
+      for (size_t k = 2; k < w.size(); ++k) name.append(1, '_').append(w[k]);
+      group = group_index(name);  // a group named again continues
     }
   }
   return s;
@@ -336,9 +351,12 @@ TriangleSurface read_polygon_file(const std::filesystem::path& path) {
       if (soup.corners[k] < 0 || uint64_t(soup.corners[k]) >= soup.points.size())
         bad(file, fmt::format("face {} uses vertex {}, but the vertices are numbered 0 to {}", f, soup.corners[k],
                               soup.points.size() - 1));
-    for (size_t k = b + 1; k + 1 < e; ++k)
+    for (size_t k = b + 1; k + 1 < e; ++k) {
       s.triangles.push_back({id[size_t(soup.corners[b])], id[size_t(soup.corners[k])], id[size_t(soup.corners[k + 1])]});
+      if (!soup.face_group.empty()) s.triangle_patch.push_back(soup.face_group[f]);
+    }
   }
+  s.patch_names = soup.groups;
   return s;
 }
 

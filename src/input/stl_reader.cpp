@@ -52,6 +52,14 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
   int corner = 0;
   size_t line_facets = 0;
   while (in >> word) {
+    if (word == "solid") {  // a new patch, named by the rest of the line
+      std::string name;
+      std::getline(in, name);
+      const size_t b = name.find_first_not_of(" \t\r"), e = name.find_last_not_of(" \t\r");
+      name = b == std::string::npos ? "" : name.substr(b, e - b + 1);
+      s.patch_names.push_back(name.empty() ? fmt::format("solid_{}", s.patch_names.size()) : name);
+      continue;
+    }
     if (word == "vertex") {
       Vec3 p;
       double* xyz[3] = {&p.x, &p.y, &p.z};
@@ -73,12 +81,14 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
         fail(ErrorKind::InvalidInput,
              fmt::format("{}: facet {} has {} vertices, expected 3", file, line_facets, corner));
       s.triangles.push_back(tri);
+      s.triangle_patch.push_back(std::max<int32_t>(0, int32_t(s.patch_names.size()) - 1));
       corner = 0;
       ++line_facets;
     }
   }
   if (s.triangles.empty())
     fail(ErrorKind::InvalidInput, fmt::format("{}: no facets found (not an STL file?)", file));
+  if (s.patch_names.empty()) s.triangle_patch.clear();
   return s;
 }
 

@@ -2,7 +2,8 @@
 // face once (interior faces in the orientation out of their lower cell, border faces outward),
 // one NFACED element block per cell kind (interior, fringe, edge, vertex: ids 1 to 4, empty
 // kinds left out) whose elements list their faces, element variables for the cell data at one
-// time step (t = 0), side set 1 "walls" with the border faces as (element, local face), and
+// time step (t = 0), one side set per input patch (ids from 1, named) with its border faces as
+// (element, local face), and
 // double-precision coordinates. Elements are numbered block by block; the element id map and the
 // variable cell_id give each element's froth cell number (from 1).
 #include <algorithm>
@@ -123,13 +124,16 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       if (int(m.kinds[c]) == k) order.push_back(c), ++per_kind[size_t(k)];
   int blocks = 0;
   for (int64_t count : per_kind) blocks += count > 0;
-  std::vector<int> side_elements, side_faces;
+  const size_t patches = std::max<size_t>(1, m.patch_names.size());
+  std::vector<std::vector<int>> side_elements(patches), side_faces(patches);
   std::vector<size_t> element_of(n);
   for (size_t e = 0; e < n; ++e) element_of[order[e]] = e;
   for (size_t c = 0; c < n; ++c)
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
-      if (is_border_generator(m.face_generator[f]))
-        side_elements.push_back(int(element_of[c] + 1)), side_faces.push_back(int(f - m.cell_face_begin[c] + 1));
+      if (is_border_generator(m.face_generator[f])) {
+        const size_t p = size_t(m.patch_of(size_t(f)));
+        side_elements[p].push_back(int(element_of[c] + 1)), side_faces[p].push_back(int(f - m.cell_face_begin[c] + 1));
+      }
 
   write_atomically_by_name(path, [&](const std::filesystem::path& tmp) {
     int word = 8, io_word = 8;
@@ -153,7 +157,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     p.num_face_blk = 1;
     p.num_elem = int64_t(n);
     p.num_elem_blk = blocks;
-    p.num_side_sets = 1;
+    p.num_side_sets = int64_t(patches);
     check(ex_put_init_ext(exo, &p), path, "the header");
     // Everything is defined before any bulk data is written: netCDF's classic format rewrites
     // the whole file each time a definition follows data.
@@ -172,7 +176,9 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
         check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0,
                            int64_t(element_faces[size_t(k)].size()), 0),
               path, "an element block");
-    check(ex_put_set_param(exo, EX_SIDE_SET, 1, int64_t(side_elements.size()), 0), path, "the side set");
+    for (size_t q = 0; q < patches; ++q)
+      check(ex_put_set_param(exo, EX_SIDE_SET, int64_t(q + 1), int64_t(side_elements[q].size()), 0), path,
+            "a side set");
     const std::vector<std::pair<std::string, std::vector<double>>> vars = element_variables(m);
     check(ex_put_variable_param(exo, EX_ELEM_BLOCK, int(vars.size())), path, "the variables");
     std::vector<int> ids(n);
@@ -183,7 +189,9 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
     for (int k = 0; k < 4; ++k)
       if (per_kind[size_t(k)] > 0) check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, kKindNames[k]), path, "a block name");
-    check(ex_put_name(exo, EX_SIDE_SET, 1, "walls"), path, "the side set's name");
+    for (size_t q = 0; q < patches; ++q)
+      check(ex_put_name(exo, EX_SIDE_SET, int64_t(q + 1), m.patch_names.empty() ? "walls" : m.patch_names[q].c_str()),
+            path, "a side set's name");
     for (size_t v = 0; v < vars.size(); ++v)
       check(ex_put_variable_name(exo, EX_ELEM_BLOCK, int(v + 1), vars[v].first.c_str()), path, "a variable name");
 
@@ -199,7 +207,9 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       check(ex_put_entity_count_per_polyhedra(exo, EX_ELEM_BLOCK, k + 1, faces_of[size_t(k)].data()), path,
             "an element block's face counts");
     }
-    check(ex_put_set(exo, EX_SIDE_SET, 1, side_elements.data(), side_faces.data()), path, "the side set's faces");
+    for (size_t q = 0; q < patches; ++q)
+      check(ex_put_set(exo, EX_SIDE_SET, int64_t(q + 1), side_elements[q].data(), side_faces[q].data()), path,
+            "a side set's faces");
     const double time = 0;
     check(ex_put_time(exo, 1, &time), path, "the time step");
     size_t first = 0;

@@ -95,7 +95,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
     interior_at[c + 1] += interior_at[c], border_at[c + 1] += border_at[c];
   }
   const size_t ni = size_t(interior_at[n]), nb = size_t(border_at[n]);
-  std::vector<int64_t> face_cells(2 * ni), border_cell(nb), border_patch(nb, 0), border_plane(nb);
+  std::vector<int64_t> face_cells(2 * ni), border_cell(nb), border_patch(nb), border_plane(nb);
   std::vector<double> face_area(ni), face_centroid(3 * ni), face_normal(3 * ni), face_crossing(3 * ni),
       border_area(nb), border_centroid(3 * nb), border_normal(3 * nb);
   auto put = [](std::vector<double>& v, size_t i, Vec3 p) { v[3 * i] = p.x, v[3 * i + 1] = p.y, v[3 * i + 2] = p.z; };
@@ -112,6 +112,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
       const FaceGeometry geo = face_geometry(m, f);
       if (is_border_generator(g)) {
         border_cell[b] = int64_t(c);
+        border_patch[b] = m.patch_of(size_t(f));
         border_plane[b] = m.border_planes_known ? generator_plane(g) : -1;
         border_area[b] = geo.area;
         put(border_centroid, b, geo.centroid);
@@ -152,6 +153,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
     npz.add("border_normal", border_normal, 3);
     npz.add("border_patch", border_patch);
     npz.add("border_plane", border_plane);
+    npz.add("patch_names", m.patch_names.empty() ? std::vector<std::string>{"walls"} : m.patch_names);
     npz.finish();
   });
 }

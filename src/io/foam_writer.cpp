@@ -4,6 +4,7 @@
 // neighbour); then the border faces, patch by patch, their normals out of the domain.
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <iterator>
 #include <numeric>
 
@@ -45,6 +46,19 @@ void header(Chunked& out, const char* cls, const char* object, const std::string
   out.put("    location    \"constant/polyMesh\";\n    object      {};\n}}\n\n", object);
 }
 
+// Patch names as OpenFOAM words: letters, digits and _ (others become _), unique.
+std::vector<std::string> foam_patch_names(const PolyMesh& m) {
+  std::vector<std::string> out;
+  for (const std::string& name : m.patch_names.empty() ? std::vector<std::string>{"walls"} : m.patch_names) {
+    std::string w;
+    for (char ch : name) w += std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' ? ch : '_';
+    if (w.empty() || std::isdigit(static_cast<unsigned char>(w[0]))) w = "patch_" + w;
+    while (std::find(out.begin(), out.end(), w) != out.end()) w += "_";
+    out.push_back(w);
+  }
+  return out;
+}
+
 // The faces in OpenFOAM's order, each as (a face of the mesh, its owner cell, neighbour or -1).
 struct FoamFace {
   int64_t face;
@@ -68,9 +82,13 @@ std::vector<FoamFace> foam_order(const PolyMesh& m, size_t& internal) {
     out.insert(out.end(), mine.begin(), mine.end());
   }
   internal = out.size();
+  // Border faces patch by patch, in cell order within each.
   for (size_t c = 0; c < m.cell_count(); ++c)
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
       if (is_border_generator(m.face_generator[f])) out.push_back({f, int32_t(c), -1});
+  std::stable_sort(out.begin() + std::ptrdiff_t(internal), out.end(), [&](const FoamFace& a, const FoamFace& b) {
+    return m.patch_of(size_t(a.face)) < m.patch_of(size_t(b.face));
+  });
   return out;
 }
 
@@ -164,9 +182,18 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
   write_atomically(dir / "boundary", [&](std::ostream& os) {
     Chunked out(os);
     header(out, "polyBoundaryMesh", "boundary");
-    out.put("1\n(\n    walls\n    {{\n        type            wall;\n        inGroups        1(wall);\n"
-            "        nFaces          {};\n        startFace       {};\n    }}\n)\n",
-            faces.size() - internal, internal);
+    const std::vector<std::string> names = foam_patch_names(m);
+    std::vector<size_t> count(names.size(), 0);
+    for (size_t k = internal; k < faces.size(); ++k) ++count[size_t(m.patch_of(size_t(faces[k].face)))];
+    out.put("{}\n(\n", names.size());
+    size_t start = internal;
+    for (size_t p = 0; p < names.size(); ++p) {
+      out.put("    {}\n    {{\n        type            wall;\n        inGroups        1(wall);\n"
+              "        nFaces          {};\n        startFace       {};\n    }}\n",
+              names[p], count[p], start);
+      start += count[p];
+    }
+    out.put(")\n");
   });
   // One cellZone per cell kind, so a solver can tell the cells along protected edges apart.
   write_atomically(dir / "cellZones", [&](std::ostream& os) {

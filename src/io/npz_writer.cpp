@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include <fmt/format.h>
@@ -50,6 +51,15 @@ void NpzWriter::add(const std::string& name, const std::vector<double>& v, size_
 void NpzWriter::add(const std::string& name, const std::vector<int64_t>& v, size_t columns) {
   add_raw(name, "<i8", reinterpret_cast<const char*>(v.data()), v.size() * sizeof(int64_t),
           columns ? v.size() / columns : v.size(), columns);
+}
+
+void NpzWriter::add(const std::string& name, const std::vector<std::string>& v) {
+  size_t width = 1;
+  for (const std::string& s : v) width = std::max(width, s.size());
+  std::vector<uint32_t> codes(width * v.size(), 0);  // fixed-width UTF-32, zero-padded
+  for (size_t k = 0; k < v.size(); ++k)
+    for (size_t j = 0; j < v[k].size(); ++j) codes[k * width + j] = static_cast<unsigned char>(v[k][j]);
+  add_raw(name, fmt::format("<U{}", width), reinterpret_cast<const char*>(codes.data()), codes.size() * 4, v.size(), 0);
 }
 
 void NpzWriter::add_raw(const std::string& array, const std::string& descr, const char* data, size_t bytes,

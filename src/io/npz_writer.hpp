@@ -14,6 +14,7 @@ class NpzWriter {
   // Appends NAME.npy with the given shape (rows, or rows x columns when columns > 0).
   void add(const std::string& name, const std::vector<double>& values, size_t columns = 0);
   void add(const std::string& name, const std::vector<int64_t>& values, size_t columns = 0);
+  void add(const std::string& name, const std::vector<std::string>& values);  // '<U' strings (UTF-8 bytes as code points)
   void finish();  // the central directory; call once, last
 
  private:

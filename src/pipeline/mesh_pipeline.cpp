@@ -18,6 +18,7 @@
 #include "features/feature_size.hpp"
 #include "sampling/graded_mps.hpp"
 #include "sampling/sizing.hpp"
+#include "pipeline/border_patches.hpp"
 #include "pipeline/partition.hpp"
 #include "sampling/mps.hpp"
 #include "assembly/tessellation.hpp"
@@ -176,6 +177,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   // Where cells may not hold their seed in their kernel (non-convex domains), the point to fan
   // each from.
   if (!domain.convex) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
+  assign_border_patches(domain, mesh);
   MeshCheck check = check_mesh(mesh);
   run.stages.push_back({"validation", watch.lap(), peak_rss_bytes()});
   if (!check.ok())
