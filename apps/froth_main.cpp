@@ -38,6 +38,7 @@ struct MeshArgs : CommonArgs {
   std::string output;
   std::string report;
   std::string boundary;  // --boundary: the border faces with their patches
+  bool compress = false;
   bool partition = false;
   double cells = 0;  // --cells: choose r for about this many (0: -r given)
   bool dry_run = false;
@@ -96,7 +97,8 @@ int run_mesh(const MeshArgs& given) {
   if (opt.progress) opt.progress("writing", 0);
   froth::OutputGroup outputs;  // the mesh and its report appear together, or neither
   froth::write_mesh(mesh, run, output,
-                   opt.progress ? [&](double f) { opt.progress("writing", f); } : std::function<void(double)>());
+                   opt.progress ? [&](double f) { opt.progress("writing", f); } : std::function<void(double)>(),
+                   a.compress);
   const double write_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.stages.push_back({"writing", write_seconds, froth::peak_rss_bytes()});
   run.total_seconds += write_seconds;
@@ -382,6 +384,7 @@ int froth_main(int argc, char** argv, const World& world) {
                    "output: OUT.vtu (default <input stem>.vtu), a folder named polyMesh (OpenFOAM), OUT.npz (facet "
                    "graph) or OUT.nodes (peridynamic nodes)");
   mesh->add_option("--report", a.report, "write a JSON run report here");
+  mesh->add_flag("--compress", a.compress, "zlib-compress the VTU's arrays (VTK and ParaView read it; about half the size)");
   mesh->add_option("--boundary", a.boundary,
                    "write the border faces here as a surface VTU with each face's patch (STL solid, OBJ group, or "
                    "smooth region between feature curves)");

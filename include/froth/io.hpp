@@ -10,10 +10,11 @@
 
 namespace froth {
 
-// VTK XML UnstructuredGrid of VTK_POLYHEDRON cells, appended raw binary. Cell data: seed,
-// kind, volume; field data: r, random_seed, weld, version.
+// VTK XML UnstructuredGrid of VTK_POLYHEDRON cells, appended raw binary (zlib-compressed in
+// VTK's own layout when `compress`). Cell data: seed, kind, volume; field data: r, random_seed,
+// weld, version.
 void write_vtu(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
-               const std::function<void(double)>& progress = {});
+               const std::function<void(double)>& progress = {}, bool compress = false);
 
 // OpenFOAM polyMesh in the folder `dir` (points, faces, owner, neighbour, boundary, cellZones by
 // cell kind; ASCII): interior faces once, owner < neighbour, normals out of the owner, in
@@ -44,8 +45,9 @@ enum class MeshFormat { Vtu, OpenFoam, FacetGraph, PeridynamicNodes, Exodus, Unk
 MeshFormat mesh_format_of(const std::filesystem::path& path);
 
 // The mesh in the format its path names (mesh_format_of); Usage error for an unknown one.
+// `compress`: a zlib-compressed VTU (the other formats ignore it).
 void write_mesh(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
-                const std::function<void(double)>& progress = {});
+                const std::function<void(double)>& progress = {}, bool compress = false);
 
 // The border faces as a surface VTU (VTK_POLYGON cells) with cell data `patch` (into the field
 // data `patch_names`) and `cell` (the mesh cell each belongs to): a VTU holds no face data.

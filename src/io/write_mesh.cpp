@@ -23,9 +23,9 @@ MeshFormat mesh_format_of(const std::filesystem::path& path) {
 }
 
 void write_mesh(const PolyMesh& mesh, const RunReport& run, const std::filesystem::path& path,
-                const std::function<void(double)>& progress) {
+                const std::function<void(double)>& progress, bool compress) {
   switch (mesh_format_of(path)) {
-    case MeshFormat::Vtu: return write_vtu(mesh, run, path, progress);
+    case MeshFormat::Vtu: return write_vtu(mesh, run, path, progress, compress);
     case MeshFormat::OpenFoam: return write_openfoam(mesh, path);
     case MeshFormat::FacetGraph: return write_facet_graph(mesh, path);
     case MeshFormat::PeridynamicNodes: return write_peridynamic_nodes(mesh, path);

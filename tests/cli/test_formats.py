@@ -289,6 +289,20 @@ for name, model, r, expected in [
     patch = vtk_to_numpy(r_.GetOutput().GetCellData().GetArray("patch"))
     check(np.bincount(patch, minlength=len(names)).tolist() == counts.tolist(), f"{name}: --boundary patches")
 
+# --compress: VTK's zlib layout, the same cells, points and faces as the raw VTU, a smaller file,
+# and froth's own reader takes it back.
+raw, packed = os.path.join(tmp, "raw.vtu"), os.path.join(tmp, "packed.vtu")
+for out, extra in ((raw, []), (packed, ["--compress"])):
+    p = froth("mesh", os.path.join(MODELS, "hinge.stl"), "-r", "2", "--seed", "5", "-o", out, *extra)
+    check(p.returncode == 0, f"--compress: {p.returncode} {p.stderr}")
+if os.path.exists(raw) and os.path.exists(packed):
+    a, b = vtu_cells(raw), vtu_cells(packed)
+    check(np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1]) and a[2] == b[2], "--compress: a different mesh")
+    check(os.path.getsize(packed) < 0.7 * os.path.getsize(raw),
+          f"--compress: {os.path.getsize(packed)} bytes against {os.path.getsize(raw)}")
+    p = froth("quality", packed)
+    check(p.returncode == 0 and "every cell closed" in p.stdout, f"froth quality on a compressed VTU: {p.stderr}")
+
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", os.path.join(tmp, "x.exo2"))
 check(p.returncode == 2 and "polyMesh" in p.stderr, f"unknown format: {p.returncode} {p.stderr}")
 
