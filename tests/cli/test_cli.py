@@ -12,30 +12,11 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-FROTH, MODELS = sys.argv[1], sys.argv[2]
+import harness  # noqa: E402
+from harness import FROTH, check, failures, froth, read_vtk  # noqa: E402
+
+MODELS = sys.argv[2]
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data")
-failures = []
-passed = 0
-
-
-def check(cond, what):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(what)
-        print("FAIL:", what)
-
-
-def froth(*args):
-    return subprocess.run([FROTH, *args], capture_output=True, text=True)
-
-
-def read_vtk(path):
-    r = vtk.vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    r.Update()
-    return r.GetOutput()
 
 
 def vtk_volumes(grid):
@@ -568,10 +549,10 @@ check("--seed TEXT=0" in p.stdout, "the default seed is not shown in --help")
 leftovers = [f for f in os.listdir(tmp) if ".tmp" in f]
 check(not leftovers, f"temporary files left: {leftovers}")
 
-print(f"{passed} passed, {len(failures)} failed")
+code = harness.summary()
 # The outputs (some 160 MB) are kept only for a failure to be looked at.
 if failures:
     print(f"outputs kept in {tmp}")
 else:
     shutil.rmtree(tmp)
-sys.exit(1 if failures else 0)
+sys.exit(code)

@@ -14,18 +14,10 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-FROTH, MODELS = sys.argv[1], sys.argv[2]
+from harness import check, face_stream, failures, froth, read_vtk, summary  # noqa: E402
+
+MODELS = sys.argv[2]
 CHECKMESH = shutil.which("checkMesh") or "/usr/bin/checkMesh"
-failures, passed = [], 0
-
-
-def check(cond, what):
-    global passed
-    if cond:
-        passed += 1
-    else:
-        failures.append(what)
-        print("FAIL:", what)
 
 
 def checkmesh(case):
@@ -34,30 +26,12 @@ def checkmesh(case):
                           capture_output=True, text=True)
 
 
-def froth(*args):
-    return subprocess.run([FROTH, *args], capture_output=True, text=True)
-
-
 def vtu_cells(path):
     """Per cell its volume and faces (tuples of point ids), from VTK's reader."""
-    r = vtk.vtkXMLUnstructuredGridReader()
-    r.SetFileName(path)
-    r.Update()
-    g = r.GetOutput()
+    g = read_vtk(path)
     points = vtk_to_numpy(g.GetPoints().GetData())
     volumes = vtk_to_numpy(g.GetCellData().GetArray("volume"))
-    faces = []
-    for c in range(g.GetNumberOfCells()):
-        ids = vtk.vtkIdList()
-        g.GetFaceStream(c, ids)
-        stream = [ids.GetId(k) for k in range(ids.GetNumberOfIds())]
-        cell, k = [], 1
-        for _ in range(stream[0]):
-            n = stream[k]
-            cell.append(tuple(stream[k + 1:k + 1 + n]))
-            k += 1 + n
-        faces.append(cell)
-    return points, volumes, faces
+    return points, volumes, [face_stream(g, c) for c in range(g.GetNumberOfCells())]
 
 
 def polygon_area(p):
@@ -102,16 +76,8 @@ def exodus_cells(path):
         seed = vtk_to_numpy(cd.GetArray("seed"))
         gid = vtk_to_numpy(ds.GetPointData().GetArray("GlobalNodeId"))
         for k in range(ds.GetNumberOfCells()):
-            stream = vtk.vtkIdList()
-            ds.GetFaceStream(k, stream)
-            st = [stream.GetId(j) for j in range(stream.GetNumberOfIds())]
-            cell, j = [], 1
-            for _ in range(st[0]):
-                m = st[j]
-                cell.append(tuple(int(gid[v]) for v in st[j + 1:j + 1 + m]))
-                j += 1 + m
             cells[ids[k]] = {"volume": vol[k], "seed": seed[k]}
-            faces[ids[k]] = cell
+            faces[ids[k]] = face_stream(ds, k, lambda v: int(gid[v]))
         it.GoToNextItem()
     return cells, faces
 
@@ -306,9 +272,9 @@ if os.path.exists(raw) and os.path.exists(packed):
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", os.path.join(tmp, "x.exo2"))
 check(p.returncode == 2 and "polyMesh" in p.stderr, f"unknown format: {p.returncode} {p.stderr}")
 
-print(f"{passed} passed, {len(failures)} failed")
+code = summary()
 if failures:
     print(f"outputs kept in {tmp}")
 else:
     shutil.rmtree(tmp)
-sys.exit(1 if failures else 0)
+sys.exit(code)
