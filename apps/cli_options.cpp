@@ -1,11 +1,25 @@
 #include "cli_options.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include <fmt/format.h>
 
 namespace froth_cli {
+
+// A length that must be a finite number >= 0 (CLI11's own range check prints DBL_MAX in full).
+const CLI::Validator kFiniteNonNegative(
+    [](std::string& text) -> std::string {
+      double v = 0;
+      try {
+        v = std::stod(text);
+      } catch (const std::exception&) {
+        return "not a number: " + text;
+      }
+      return std::isfinite(v) && v >= 0 ? "" : "must be a finite number >= 0, got " + text;
+    },
+    "FINITE >= 0");
 
 CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
   app.add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
@@ -16,7 +30,7 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
   app.add_option("--weld", a.weld,
                  "weld tolerance w: vertices joined by an edge shorter than w merge (default 1e-4 min(r, the "
                  "domain's diagonal); 0 = off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kFiniteNonNegative);
   app.add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
       ->check(CLI::Range(0, 4096));
   app.add_option("--max-memory", a.max_memory_gb,

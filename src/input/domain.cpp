@@ -272,6 +272,12 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   d.bounds = b;
   d.volume = total6 / 6;
   d.surface_area = area2 / 2;
+  if (!std::isfinite(d.volume) || !std::isfinite(d.surface_area))
+    fail(ErrorKind::InvalidInput,
+         fmt::format("{}: the part's volume or area overflows double precision (coordinates up to {:.3g}); scale it "
+                     "down (froth takes sizes from 1e-100 to 1e100)",
+                     name, std::max({std::abs(b.lo.x), std::abs(b.lo.y), std::abs(b.lo.z), std::abs(b.hi.x),
+                                     std::abs(b.hi.y), std::abs(b.hi.z)})));
   if (!(d.volume > 0))
     fail(ErrorKind::InvalidInput, fmt::format("{}: the surface encloses no volume ({})", name, d.volume));
 

@@ -43,6 +43,15 @@ cube = b"OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n" \
 open(os.path.join(tmp, "in.off"), "wb").write(cube)
 
 # Data loss: an output that is the input or another output.
+# Messages that name the real problem: an infinite weld (not the range up to DBL_MAX in full),
+# a part whose volume overflows double precision (not "no volume (-nan)").
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "--weld", "inf")
+row("--weld inf", p, 2, "finite number >= 0, got inf")
+if len(p.stderr) > 200:
+    failures.append(f"--weld inf: a {len(p.stderr)}-character message")
+open(os.path.join(tmp, "huge.off"), "w").write(
+    "OFF\n4 4 0\n0 0 0\n1e308 0 0\n0 1e308 0\n0 0 1e308\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")
+row("a tetrahedron scaled by 1e308", froth("mesh", "huge.off", "-r", "1e307"), 3, "overflows double precision")
 row("-o onto the input", froth("mesh", "in.off", "-r", "0.3", "-o", "in.off"), 2, "same file", present=[("in.off", cube)])
 row("--report onto the input", froth("mesh", "in.off", "-r", "0.3", "--report", "in.off"), 2, "same file",
     absent=["in.vtu"], present=[("in.off", cube)])
