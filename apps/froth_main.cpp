@@ -230,12 +230,13 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   const std::string where = world.size > 1 ? fmt::format(" (rank {})", world.rank) : "";
   // Every rank reaches each world.max, whatever it threw: none waits for a rank that left.
   std::optional<froth::Domain> domain;
+  froth::FolderLock lock;  // rank 0 holds the folder until the run ends
   int code = froth_cli::run_with_exit_codes(
       [&] {
         domain = froth::load_domain(a.input, a.load_options());
         opt.weld = froth_cli::mesh_options(a, *domain).weld;
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
-        if (world.rank == 0) froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
+        if (world.rank == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
         return 0;
       },
       where);

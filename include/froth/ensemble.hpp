@@ -45,8 +45,22 @@ struct EnsembleProgress {
 // mixes two ensembles; with `overwrite` it removes that ensemble's files instead. Files froth
 // does not name (member_*, ensemble.json, ensemble.pvd) are left alone. Call on one rank, before
 // any rank builds.
-// The options are checked first (check_mesh_options), so a bad run touches nothing.
-void prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite);
+// The options are checked first (check_mesh_options), so a bad run touches nothing. Then the
+// folder is made and locked (DIR/.froth-lock, flock): while the returned lock lives, another
+// froth ensemble on the folder is refused (Usage: the folder is in use), so two runs never
+// delete each other's temporary files.
+class FolderLock {
+ public:
+  FolderLock() = default;
+  explicit FolderLock(int fd) : fd_(fd) {}
+  FolderLock(FolderLock&& o) noexcept : fd_(o.fd_) { o.fd_ = -1; }
+  FolderLock& operator=(FolderLock&& o) noexcept;
+  ~FolderLock();
+
+ private:
+  int fd_ = -1;
+};
+[[nodiscard]] FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite);
 
 // Builds this rank's members that are not already complete and valid in opt.dir.
 EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt);

@@ -2,6 +2,9 @@
 // its sidecar, then summarised.
 #include "froth/ensemble.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -108,10 +111,29 @@ uint64_t member_seed(uint64_t seed, size_t k) {
 
 std::string member_file(size_t k) { return fmt::format("member_{:05d}.vtu", k); }
 
-void prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite) {
+FolderLock& FolderLock::operator=(FolderLock&& o) noexcept {
+  std::swap(fd_, o.fd_);
+  return *this;
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing releases the flock
+}
+
+FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite) {
   check_member_options(domain, opt);
   std::error_code ec;
-  if (!std::filesystem::is_directory(opt.dir, ec)) return;
+  if (std::filesystem::exists(opt.dir, ec) && !std::filesystem::is_directory(opt.dir, ec))
+    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; give -o a folder for the ensemble", opt.dir.string()));
+  std::filesystem::create_directories(opt.dir);
+  const std::string lock_path = (opt.dir / ".froth-lock").string();
+  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) fail(ErrorKind::Io, fmt::format("{}: cannot create the folder's lock file", lock_path));
+  FolderLock lock(fd);
+  if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+    fail(ErrorKind::Usage, fmt::format("{}: the folder is in use by another froth ensemble; wait for it to end, or "
+                                       "give -o another folder",
+                                       opt.dir.string()));
   std::vector<std::filesystem::path> ours;  // the files an ensemble writes, and their temporaries
   std::string other;                       // the first member made with other inputs
   for (const auto& entry : std::filesystem::directory_iterator(opt.dir)) {
@@ -137,12 +159,13 @@ void prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, b
       // A damaged sidecar is rebuilt, not a reason to refuse.
     }
   }
-  if (other.empty()) return;
+  if (other.empty()) return lock;
   if (!overwrite)
     fail(ErrorKind::Usage, fmt::format("{} holds an ensemble made with other inputs: {}; give --overwrite to replace "
                                        "it, or -o another folder",
                                        opt.dir.string(), other));
   for (const auto& path : ours) std::filesystem::remove(path);
+  return lock;
 }
 
 EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {

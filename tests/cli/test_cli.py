@@ -257,7 +257,7 @@ check(before == {f: os.path.getmtime(os.path.join(ens, f)) for f in os.listdir(e
 open(os.path.join(ens, "notes.txt"), "w").write("mine")
 p = froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens, "--overwrite")
 check(p.returncode == 0 and "2 built" in p.stdout, f"ensemble --overwrite: {p.returncode} {p.stdout} {p.stderr}")
-check(sorted(os.listdir(ens)) == ["ensemble.json", "ensemble.pvd", "member_00000.json", "member_00000.vtu",
+check(sorted(os.listdir(ens)) == [".froth-lock", "ensemble.json", "ensemble.pvd", "member_00000.json", "member_00000.vtu",
                                   "member_00001.json", "member_00001.vtu", "notes.txt"],
       f"ensemble --overwrite left: {sorted(os.listdir(ens))}")
 # A graded mesh records the options that shaped h as field data, and the default floor keeps
@@ -475,6 +475,9 @@ proc = subprocess.Popen([FROTH, "ensemble", *big, "-o", killed], stdout=subproce
 deadline = time.time() + 120
 while time.time() < deadline and not os.path.exists(os.path.join(killed, "member_00001.json")):
     time.sleep(0.01)
+# While it runs, a second ensemble on its folder is refused (the folder's lock), touching nothing.
+p = froth("ensemble", *big, "-o", killed)
+check(p.returncode == 2 and "in use" in p.stderr, f"a second ensemble on a busy folder: {p.returncode} {p.stderr}")
 proc.send_signal(signal.SIGKILL)
 proc.wait()
 complete = sorted(f for f in os.listdir(killed) if f.endswith(".json"))
