@@ -99,39 +99,16 @@ void write_atomically(const std::filesystem::path& requested, const std::functio
                                                                           : requested;
   if (ec) path = requested;
   const auto status = std::filesystem::status(path, ec);
-  if (!ec && std::filesystem::exists(status) && std::filesystem::is_directory(status))
-    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a file to write", path.string()));
-  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
-    return write_in_place(path, write);
-  std::filesystem::path tmp = path;
-  tmp += fmt::format(".tmp{}", ::getpid());
-  remember(tmp);
-  {
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status) &&
+      !std::filesystem::is_directory(status))
+    return write_in_place(path, write);  // (a directory is refused below)
+  write_atomically_by_name(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      const int err = errno;
-      forget(tmp);
-      fail(ErrorKind::Io, fmt::format("{}: cannot write there ({})", path.string(), std::strerror(err)));
-    }
-    try {
-      write(out);
-    } catch (...) {
-      out.close();
-      std::filesystem::remove(tmp, ec);
-      forget(tmp);
-      throw;
-    }
+    if (!out) fail(ErrorKind::Io, fmt::format("{}: cannot write there ({})", path.string(), std::strerror(errno)));
+    write(out);
     out.flush();
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp, ec);
-      forget(tmp);
-      fail(ErrorKind::Io, fmt::format("{}: write failed (disk full?)", path.string()));
-    }
-  }
-  if (g_group) return g_group->defer(tmp, path);
-  rename_into_place(tmp, path);
-  forget(tmp);
+    if (!out) fail(ErrorKind::Io, fmt::format("{}: write failed (disk full?)", path.string()));
+  });
 }
 
 void write_atomically_by_name(const std::filesystem::path& path,
