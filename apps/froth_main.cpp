@@ -78,13 +78,32 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
   return 0;
 }
 
+// The input read and validated (its self-intersection test can be the longest stage of a
+// finely tessellated part), timed as the run's first stage.
+struct Reading {
+  explicit Reading(const MeshArgs& a) {
+    const auto t0 = std::chrono::steady_clock::now();
+    domain = froth::load_domain(a.input, a.load_options());
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    peak_bytes = froth::peak_rss_bytes();
+  }
+  void add_stage(froth::RunReport& run) const {
+    run.stages.insert(run.stages.begin(), {"reading", seconds, peak_bytes});
+    run.total_seconds += seconds;
+  }
+  froth::Domain domain;
+  double seconds = 0;
+  size_t peak_bytes = 0;
+};
+
 int run_mesh(const MeshArgs& given) {
   const std::string output = given.output.empty() ? default_output(given.input) : given.output;
   froth_cli::refuse_same_files(
       {{"the input", given.input}, {"-o", output}, {"--report", given.report}, {"--boundary", given.boundary}});
   froth_cli::refuse_unknown_mesh_format("-o", output);
   if (!given.boundary.empty()) froth_cli::refuse_unknown_format("--boundary", given.boundary, {".vtu"});
-  froth::Domain domain = froth::load_domain(given.input, given.load_options());
+  const Reading reading(given);
+  const froth::Domain& domain = reading.domain;
   const MeshArgs a = with_radius(given, domain);
   froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
   if (a.dry_run) return dry_run(a, domain, opt);
@@ -93,6 +112,7 @@ int run_mesh(const MeshArgs& given) {
   froth::RunReport run;
   run.cells_requested = a.cells;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
+  reading.add_stage(run);
   auto t0 = std::chrono::steady_clock::now();
   if (opt.progress) opt.progress("writing", 0);
   froth::OutputGroup outputs;  // the mesh and its report appear together, or neither
@@ -119,7 +139,8 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   std::filesystem::path output = given.output.empty() ? default_output(given.input) : given.output;
   if (output.extension() == ".vtu") output.replace_extension(".pvtu");
   froth_cli::refuse_unknown_format("-o with --partition", output.string(), {".pvtu"});
-  froth::Domain domain = froth::load_domain(given.input, given.load_options());
+  const Reading reading(given);
+  const froth::Domain& domain = reading.domain;
   const MeshArgs a = with_radius(given, domain);
   froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
   froth_cli::ProgressBar bar(!a.quiet && comm.rank() == 0);
@@ -128,6 +149,7 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   run.cells_requested = a.cells;
   froth::PartitionReport part;
   froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
+  reading.add_stage(run);
 
   const std::string stem = output.stem().string();
   const std::filesystem::path dir = output.parent_path() / stem;

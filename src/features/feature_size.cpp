@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <queue>
 
 #include "common/union_find.hpp"
 
@@ -43,55 +42,58 @@ std::vector<std::array<int32_t, 3>> edge_neighbours(const TriangleSurface& s) {
   return out;
 }
 
-// Per thread: the least ball radius around p within which each triangle is reachable from p's
-// triangle across shared edges (a bottleneck shortest path). A triangle's part in a ball is
-// convex, so two triangles connect inside the ball exactly where their shared edge meets it: this
-// is the connectivity of the surface within the ball, grown on demand.
+// Per thread: is triangle q reachable from triangle t across shared edges without leaving the
+// ball of radius `ball` around p? A triangle's part in a ball is convex, so two triangles connect
+// inside the ball exactly where their shared edge meets it. The search runs best first towards
+// q, so a hit that is reachable (the far face of a wedge, over its edge) is found along a short
+// path instead of by settling the whole ball: a fan of slivers (a CAD cylinder's cap) would put
+// every triangle of the part in it, for every triangle.
 class Reach {
  public:
-  Reach(const Triangles& tris, const std::vector<std::array<int32_t, 3>>& adj)
-      : tris_(tris), adj_(adj), radius_(tris.size(), INFINITY) {}
+  Reach(const TriangleSurface& s, const std::vector<std::array<int32_t, 3>>& adj, const std::vector<Vec3>& centroid)
+      : s_(s), adj_(adj), centroid_(centroid), seen_(s.triangles.size(), 0) {}
 
-  void start(int32_t t, Vec3 p) {
-    for (int32_t u : touched_) radius_[u] = INFINITY;
-    touched_.clear();
-    queue_ = {};
-    p_ = point(p);
-    push(t, 0);
-  }
-  // Is triangle q reachable within the ball of radius `ball`?
-  bool reaches(int32_t q, double ball) {
-    grow(ball);
-    return radius_[q] <= ball;
+  bool reaches(int32_t from, Vec3 p, int32_t q, double ball) {
+    if (from == q) return true;
+    if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
+    const double ball2 = ball * ball;
+    const Vec3 goal = centroid_[size_t(q)];
+    heap_.clear();
+    auto push = [&](int32_t t) {
+      seen_[size_t(t)] = stamp_;
+      heap_.push_back({norm2(centroid_[size_t(t)] - goal), t});
+      std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
+    };
+    push(from);
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
+      const int32_t t = heap_.back().second;
+      heap_.pop_back();
+      for (int k = 0; k < 3; ++k) {
+        const int32_t u = adj_[size_t(t)][size_t(k)];  // across the edge (k, k+1)
+        if (u < 0 || seen_[size_t(u)] == stamp_) continue;
+        const auto& tri = s_.triangles[size_t(t)];
+        if (segment_distance2(p, s_.vertices[size_t(tri[k])], s_.vertices[size_t(tri[(k + 1) % 3])]) > ball2) continue;
+        if (u == q) return true;
+        push(u);
+      }
+    }
+    return false;
   }
 
  private:
-  void push(int32_t t, double r) {
-    if (r >= radius_[t]) return;
-    if (radius_[t] == INFINITY) touched_.push_back(t);
-    radius_[t] = r;
-    queue_.push({r, t});
+  static double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
+    const Vec3 ab = b - a;
+    const double len2 = norm2(ab);
+    const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return norm2(p - (a + s * ab));
   }
-  // Settles every triangle whose bottleneck radius is at most `ball`.
-  void grow(double ball) {
-    while (!queue_.empty() && queue_.top().first <= ball) {
-      const auto [r, t] = queue_.top();
-      queue_.pop();
-      if (r > radius_[t]) continue;
-      for (int k = 0; k < 3; ++k) {
-        const int32_t u = adj_[t][k];
-        if (u < 0 || radius_[u] <= r) continue;
-        const K::Segment_3 edge(tris_[t].vertex(k), tris_[t].vertex(k + 1));  // adj_[t][k] is across it
-        push(u, std::max(r, std::sqrt(CGAL::to_double(CGAL::squared_distance(p_, edge)))));
-      }
-    }
-  }
-  const Triangles& tris_;
+  const TriangleSurface& s_;
   const std::vector<std::array<int32_t, 3>>& adj_;
-  std::vector<double> radius_;
-  std::vector<int32_t> touched_;
-  std::priority_queue<std::pair<double, int32_t>, std::vector<std::pair<double, int32_t>>, std::greater<>> queue_;
-  K::Point_3 p_;
+  const std::vector<Vec3>& centroid_;
+  std::vector<uint32_t> seen_;
+  uint32_t stamp_ = 0;
+  std::vector<std::pair<double, int32_t>> heap_;
 };
 
 FeatureSizeReport::Measure summarise(const std::vector<double>& value, const std::vector<double>& area,
@@ -162,7 +164,7 @@ FeatureSize measure_feature_size(const Domain& domain, double cap) {
 
 #pragma omp parallel
   {
-    Reach reach(tris, adj);
+    Reach reach(S, adj, centroid);
     std::vector<std::pair<double, int32_t>> hits;
     std::vector<Tree::Intersection_and_primitive_id<K::Segment_3>::Type> found;
 #pragma omp for schedule(dynamic, 256)
@@ -171,7 +173,10 @@ FeatureSize measure_feature_size(const Domain& domain, double cap) {
         const Vec3 d = side == 0 ? -1.0 * normal[t] : normal[t];
         const Vec3 p = centroid[t];
         found.clear();
-        tree.all_intersections(K::Segment_3(point(p), point(p + cap * d)), std::back_inserter(found));
+        // From just off the surface: a segment starting on the plane of p's triangle touches every
+        // coplanar neighbour, and a fan of slivers (a CAD cylinder's cap) puts thousands of them in
+        // its boxes, each settled by exact arithmetic. Hits that near are ignored anyway.
+        tree.all_intersections(K::Segment_3(point(p + floor * d), point(p + cap * d)), std::back_inserter(found));
         hits.clear();
         for (const auto& [object, id] : found) {
           const int32_t q = int32_t(id - tris.cbegin());
@@ -184,10 +189,9 @@ FeatureSize measure_feature_size(const Domain& domain, double cap) {
         }
         if (hits.empty()) continue;
         std::sort(hits.begin(), hits.end());
-        reach.start(int32_t(t), p);
         for (const auto& [at, q] : hits) {
           if (patch[size_t(q)] == patch[t] || shell[size_t(q)] != shell[t] ||
-              !reach.reaches(q, FeatureSize::kLocality * at)) {
+              !reach.reaches(int32_t(t), p, q, FeatureSize::kLocality * at)) {
             (side == 0 ? out.thickness : out.gap)[t] = at;
             break;
           }
