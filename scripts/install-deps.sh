@@ -11,4 +11,5 @@ $SUDO apt-get install -y -q --no-install-recommends \
   librandom123-dev libcli11-dev libfmt-dev nlohmann-json3-dev libpugixml-dev zlib1g-dev \
   libgtest-dev libbenchmark-dev voro++-dev libopenmpi-dev openmpi-bin \
   python3 python3-numpy python3-vtk9 python3-meshio python3-matplotlib python3-jsonschema xvfb xauth \
-  openfoam libexodusii-dev
+  openfoam libexodusii-dev \
+  clang libclang-rt-14-dev libomp-dev

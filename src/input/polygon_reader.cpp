@@ -86,7 +86,11 @@ double number(const std::string& file, const Lines& at, std::string_view w) {
 
 int64_t whole(const std::string& file, const Lines& at, std::string_view w, const char* what) {
   int64_t v;
-  if (!parse(w, v)) bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, w));
+  const auto [p, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
+  if (ec == std::errc::result_out_of_range)
+    bad(file, fmt::format("line {}: {} '{}' is out of range (at most {})", at.number(), what, w, INT64_MAX));
+  if (ec != std::errc() || p != w.data() + w.size())
+    bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, w));
   return v;
 }
 

@@ -9,7 +9,9 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <fmt/format.h>
 #include <pugixml.hpp>
@@ -111,7 +113,7 @@ class Reader {
     if (format == "ascii") {
       std::istringstream in(a.child_value());
       double v;
-      while (in >> v) out.push_back(T(v));
+      while (in >> v) out.push_back(whole_if_needed<T>(v, a.attribute("Name").as_string()));
       return out;
     }
     std::string raw;
@@ -177,6 +179,7 @@ class Reader {
     if (blocks > text.size()) bad(path_, fmt::format("a binary data block declares {} compressed blocks", blocks));
     const size_t header_bytes = (3 + blocks) * word();
     const size_t header_chars = 4 * ((header_bytes + 2) / 3);
+    if (header_chars > text.size()) bad(path_, fmt::format("a binary data block's header of {} blocks is truncated", blocks));
     const std::string header = base64_decode(text.substr(0, header_chars));
     return inflate_blocks(header, base64_decode(text.substr(header_chars)));
   }
@@ -193,7 +196,7 @@ class Reader {
     if (at + word() > bytes_.size()) bad(path_, "an appended offset points past the end of the file");
     if (!compressed_) {
       const uint64_t n = header_word(bytes_.substr(at, word()), 0);
-      if (at + word() + n > bytes_.size()) bad(path_, "an appended block runs past the end of the file");
+      if (n > bytes_.size() - at - word()) bad(path_, "an appended block runs past the end of the file");
       return bytes_.substr(at + word(), n);
     }
     const uint64_t blocks = header_word(bytes_.substr(at, word()), 0);
@@ -207,6 +210,17 @@ class Reader {
     return inflate_blocks(header, bytes_.substr(at + header.size(), total));
   }
 
+  // A value as T; a floating-point value read for an integer array (offsets, connectivity) must
+  // be a number in T's range, or its conversion would be undefined.
+  template <class T, class S>
+  T whole_if_needed(S v, const char* name) const {
+    if constexpr (std::is_integral_v<T> && std::is_floating_point_v<S>) {
+      if (!(v >= double(std::numeric_limits<T>::min()) && v < double(std::numeric_limits<T>::max()) + 1.0))
+        bad(path_, fmt::format("array {}: {} is not an index or count", name, v));
+    }
+    return T(v);
+  }
+
   template <class T>
   void convert(const std::string& type, const std::string& raw, std::vector<T>& out, const char* name) const {
     auto take = [&](auto zero) {
@@ -216,7 +230,7 @@ class Reader {
       for (size_t i = 0; i < n; ++i) {
         S v;
         std::memcpy(&v, raw.data() + i * sizeof(S), sizeof(S));
-        out[i] = T(v);
+        out[i] = whole_if_needed<T>(v, name);
       }
     };
     if (type == "Float64") take(double{});
