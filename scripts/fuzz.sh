@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-60}"
 build="${2:-build-fuzz}"
 artifacts="$(realpath -m "${3:-fuzz-artifacts}")"
-targets=(stl off obj ply vtu domain)
+targets=(${FUZZ_TARGETS:-stl off obj ply vtu domain})  # FUZZ_TARGETS="vtu ply": some of them
 if [ ! -f "$build/CMakeCache.txt" ]; then
   CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFROTH_FUZZ=ON -DFROTH_BUILD_TESTS=OFF \
     -DFROTH_BUILD_BENCH=OFF
