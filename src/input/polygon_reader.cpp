@@ -72,25 +72,26 @@ std::vector<std::string_view> words(std::string_view line) {
   return out;
 }
 
+// The whole word as a T: std::errc() if it is one, invalid_argument for other characters, and
+// result_out_of_range for a number T cannot hold.
 template <class T>
-bool parse(std::string_view w, T& v) {
+std::errc parse(std::string_view w, T& v) {
   const auto [p, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
-  return ec == std::errc() && p == w.data() + w.size();
+  return ec != std::errc() ? ec : p == w.data() + w.size() ? std::errc() : std::errc::invalid_argument;
 }
 
 double number(const std::string& file, const Lines& at, std::string_view w) {
   double v;
-  if (!parse(w, v)) bad(file, fmt::format("line {}: '{}' is not a number", at.number(), w));
+  if (parse(w, v) != std::errc()) bad(file, fmt::format("line {}: '{}' is not a number", at.number(), w));
   return v;
 }
 
 int64_t whole(const std::string& file, const Lines& at, std::string_view w, const char* what) {
   int64_t v;
-  const auto [p, ec] = std::from_chars(w.data(), w.data() + w.size(), v);
+  const std::errc ec = parse(w, v);
   if (ec == std::errc::result_out_of_range)
     bad(file, fmt::format("line {}: {} '{}' is out of range (at most {})", at.number(), what, w, INT64_MAX));
-  if (ec != std::errc() || p != w.data() + w.size())
-    bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, w));
+  if (ec != std::errc()) bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, w));
   return v;
 }
 
