@@ -59,6 +59,7 @@ row("--report onto -o", froth("mesh", "in.off", "-r", "0.3", "-o", "m.vtu", "--r
     absent=["m.vtu*"])
 p = froth("mesh", "in.off", "-r", "0.3", "-o", "m.vtu")
 mesh = open(os.path.join(tmp, "m.vtu"), "rb").read() if p.returncode == 0 else b""
+open(os.path.join(tmp, "afile.txt"), "w").write("x")
 row("quality --json onto its mesh", froth("quality", "m.vtu", "--json", "m.vtu"), 2, "same file",
     present=[("m.vtu", mesh)])
 # A report that cannot be written: no mesh either.
@@ -77,6 +78,9 @@ if time.time() - t0 > 10:
     failures.append("box thinner than 1e-6 r: not refused at once")
 row("more memory than the machine has", froth("mesh", "box:0,0,0,1,1,1", "-r", "0.0014", timeout=60), 2, "GB",
     absent=["box.vtu"])
+row("--plots onto a file", froth("quality", "m.vtu", "--plots", "afile.txt"), 4, "afile.txt")
+row("--plots where nothing can be written", froth("quality", "m.vtu", "--plots", "/proc/froth-plots"), 4,
+    "/proc/froth-plots")
 os.mkdir(os.path.join(tmp, "adir.stl"))
 row("input is a directory", froth("mesh", "adir.stl", "-r", "0.3"), 4, "is a directory")
 
