@@ -30,4 +30,15 @@ printf 'import os, runpy, sys\nopen(os.path.join(os.path.dirname(__file__), "use
 "$prefix/bin/froth" quality "$prefix/sphere.vtu" --plots "$prefix/plots" -q
 [ -s "$prefix/plots/aspect.png" ] || { echo "FAIL: the installed froth drew no plots"; exit 1; }
 [ -e "$prefix/share/froth/used" ] || { echo "FAIL: the installed froth used the source tree's script"; exit 1; }
+# The installed Python module, from the prefix alone (when the build made one).
+if [ -e "$build/python/froth/__init__.py" ]; then
+  site="$prefix/lib/python3/dist-packages"
+  [ -e "$site/froth/__init__.py" ] && ls "$site"/froth/_froth*.so > /dev/null || { echo "FAIL: the Python module is not installed"; exit 1; }
+  (cd "$prefix" && PYTHONPATH="$site" /usr/bin/python3 -c "
+import froth, sys
+assert froth.__file__.startswith(sys.argv[1]), froth.__file__
+m = froth.mesh(sys.argv[2], r=0.3, seed=1)
+assert m.cell_count > 0 and abs(m.cell_data['volume'].sum() - froth.load(sys.argv[2]).volume) < 1e-9
+print('installed module:', m)" "$site" "$source/examples/unit_sphere.stl") || { echo "FAIL: the installed module does not mesh"; exit 1; }
+fi
 echo "1 passed, 0 failed"
