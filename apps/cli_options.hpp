@@ -22,6 +22,7 @@ struct CommonArgs {
   double weld = -1;   // default: froth::default_weld_tolerance
   int threads = 0;
   bool no_quality = false;
+  bool convex = false;  // froth mesh --convex
   double feature_angle = froth::kDefaultFeatureAngle;
   bool repair = false;
   bool grade = false;

@@ -402,6 +402,9 @@ int froth_main(int argc, char** argv, const World& world) {
   CLI::Option* radius = froth_cli::add_common_options(*mesh, a);
   CLI::Option* cells = mesh->add_option("--cells", a.cells, "instead of -r: choose r for about this many cells (reported)");
   radius->excludes(cells);
+  mesh->add_flag("--convex", a.convex,
+                 "split every non-convex cell into convex pieces that conform with their neighbours (cell data "
+                 "parent; no welding)");
   mesh->add_flag("--dry-run", a.dry_run, "print the estimated cells, memory and time, and stop");
   mesh->add_option("-o,--output", a.output,
                    "output: OUT.vtu (default <input stem>.vtu), a folder named polyMesh (OpenFOAM), OUT.npz (facet "

@@ -45,6 +45,18 @@ std::vector<std::string> notes(const froth::RunReport& run) {
     out.push_back(fmt::format("{} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces "
                               "became {} more cells (cell data piece > 0)",
                               run.split_seeds, run.extra_pieces));
+  if (run.convex_split.requested) {
+    const froth::RunReport::ConvexSplit& cs = run.convex_split;
+    out.push_back(cs.cells_split == 0
+                      ? std::string("--convex: every cell was convex already")
+                      : fmt::format("--convex split {} non-convex cells into {} convex pieces (up to {} from one cell; "
+                                    "cell data parent); the smallest piece {:.3g} r^3{}{}",
+                                    cs.cells_split, cs.pieces, cs.max_pieces, cs.smallest_piece_volume,
+                                    cs.piece_aspect_max > 0 ? fmt::format(", pieces' aspect ratio mean {:.3g}, largest {:.3g}",
+                                                                         cs.piece_aspect_mean, cs.piece_aspect_max)
+                                                            : "",
+                                    cs.left_nonconvex ? fmt::format("; {} cells left non-convex (no face plane cut them cleanly)", cs.left_nonconvex) : ""));
+  }
   if (run.not_star_shaped > 0)
     out.push_back(fmt::format("{} cells are not star-shaped from their seed (a face plane up to {:.3g} r beyond it): "
                               "they lie along concave curved surfaces, whose flat reflex edges are not protected, or "

@@ -146,6 +146,7 @@ py::dict cell_data(const py::object& self) {
   d["volume"] = view_of<double>(self, pm.volumes);
   if (pm.piece.size() == n) d["piece"] = view_of<uint32_t>(self, pm.piece);
   else d["piece"] = py::module_::import("numpy").attr("zeros")(n, "uint32");
+  if (pm.parent.size() == n) d["parent"] = view_of<uint32_t>(self, pm.parent);
   if (pm.centers.size() == n) d["center"] = vec3_view(self, pm.centers.data(), n);
   else d["center"] = d["seed"];
   if (pm.radii.size() == n) d["radius"] = view_of<double>(self, pm.radii);
@@ -263,15 +264,18 @@ PYBIND11_MODULE(_froth, m) {
   m.def(
       "mesh",
       [](const froth::Domain& domain, double r, double cells, uint64_t seed, std::optional<double> weld, bool quality,
-         int threads, bool grade, std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb) {
+         int threads, bool grade, std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb,
+         bool convex) {
         py::gil_scoped_release unlocked;
-        const froth::MeshOptions opt =
-            mesh_options(domain, r, cells, seed, weld, quality, threads, grade, min_r, max_grading, max_memory_gb);
+        froth::MeshOptions opt =
+            mesh_options(domain, r, cells, seed, convex && !weld ? std::optional<double>(0) : weld, quality, threads,
+                         grade, min_r, max_grading, max_memory_gb);
+        opt.convex = convex;
         return make_mesh(domain, opt, cells);
       },
       py::arg("domain"), py::arg("r") = 0.0, py::arg("cells") = 0.0, py::arg("seed") = 0, py::arg("weld") = py::none(),
       py::arg("quality") = true, py::arg("threads") = 0, py::arg("grade") = false, py::arg("min_r") = py::none(),
-      py::arg("max_grading") = 0.2, py::arg("max_memory") = py::none());
+      py::arg("max_grading") = 0.2, py::arg("max_memory") = py::none(), py::arg("convex") = false);
   m.def(
       "read",
       [](const std::filesystem::path& path) {

@@ -98,9 +98,12 @@ struct PolyMesh {
   // out where every neighbour is known (a partitioned run's cells with their ghost ring);
   // empty: from the radii.
   std::vector<uint8_t> near_graded;
+  // --convex: the cell each cell was split from (MeshOptions::convex); empty: none was split.
+  std::vector<uint32_t> parent;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }
+  uint32_t parent_of(size_t c) const { return parent.empty() ? uint32_t(c) : parent[c]; }
   Vec3 center_of(size_t c) const { return centers.empty() ? seeds[c] : centers[c]; }
   double radius_of(size_t c, double r) const { return radii.empty() ? r : radii[c]; }
   size_t face_count() const { return face_generator.size(); }
@@ -123,6 +126,9 @@ struct MeshOptions {
   // A run whose estimated memory is above this is refused before it starts; 0: the machine's
   // available memory.
   double max_memory_bytes = 0;
+  // Split every non-convex cell into convex pieces that conform with their neighbours
+  // (src/convex). Welding makes faces non-planar, so it cannot be combined with weld > 0.
+  bool convex = false;
 };
 
 struct StageTiming {
@@ -206,6 +212,15 @@ struct RunReport {
   size_t faces = 0, points = 0;
   // Seeds whose part of the domain fell in several pieces, and the cells those added (mesh.piece).
   size_t split_seeds = 0, extra_pieces = 0;
+  // --convex: the cells split, the convex cells they became, the most pieces of one cell, the
+  // cells left non-convex (no face plane cut them cleanly) and the smallest piece's volume / r^3.
+  struct ConvexSplit {
+    bool requested = false;
+    size_t cells_split = 0, pieces = 0, max_pieces = 0, left_nonconvex = 0;
+    double smallest_piece_volume = 0;
+    // The pieces' quality (when measured): aspect ratio mean and largest, smallest dihedral.
+    double piece_aspect_mean = 0, piece_aspect_max = 0, piece_min_dihedral = 0;
+  } convex_split;
   double domain_volume = 0, volume_sum = 0;
   double surface_area = 0;  // of the domain
   std::vector<StageTiming> stages;

@@ -41,7 +41,7 @@ def _domain(surface, feature_angle, repair):
 
 
 def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, threads=0, grade=False, min_r=None,
-         max_grading=0.2, max_memory=None, feature_angle=30.0, repair=False):
+         max_grading=0.2, max_memory=None, feature_angle=30.0, repair=False, convex=False):
     """Mesh a solid: `froth mesh` with the same options gives the same mesh, byte for byte.
 
     surface: a surface file (STL, OBJ, OFF, PLY), 'box:X0,Y0,Z0,X1,Y1,Z1', a Domain, or a tuple
@@ -52,6 +52,7 @@ def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, thread
     grade, min_r, max_grading: a radius graded to thin walls and gaps (experimental).
     max_memory: refuse a run estimated above this many GB (None: the memory available).
     feature_angle, repair: how a surface file is read (as --feature-angle and --repair).
+    convex: split every non-convex cell into convex pieces (cell data "parent"; no welding).
     """
     if (r is None) == (cells is None):
         raise UsageError("give r= (the sampling radius) or cells= (about this many cells), not both" if r is not None
@@ -59,7 +60,7 @@ def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, thread
     domain = _domain(surface, feature_angle, repair)
     return _froth.mesh(domain, r=0.0 if r is None else float(r), cells=0.0 if cells is None else float(cells),
                        seed=seed, weld=weld, quality=quality, threads=threads, grade=grade, min_r=min_r,
-                       max_grading=max_grading, max_memory=max_memory)
+                       max_grading=max_grading, max_memory=max_memory, convex=convex)
 
 
 def ensemble(surface, r, members, *, seed=0, feature_angle=30.0, repair=False, **options):

@@ -21,6 +21,10 @@ inline double negligible_loop_area(double size) { return (1e-6 * size) * (1e-6 *
 // Facet planes whose normals and offsets agree to this are one plane of the domain.
 inline double coplanar(double domain_diagonal) { return 1e-9 * domain_diagonal; }
 
+// --convex: a cell is convex when no vertex lies beyond a face plane by more than this (issue 22's
+// figure); a cell whose vertices do is cut by that plane.
+inline double convex(double r) { return 1e-12 * r; }
+
 // Finest sub-cube level of the sampler: cubes of side base / 2^31 (~3e-10 r) are at the
 // round-off of coordinates, so the sample is maximal up to round-off. (Sub-cube coordinates
 // within a base cube are 31-bit.)

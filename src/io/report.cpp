@@ -51,6 +51,17 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                {"seeds_split_in_pieces", run.split_seeds},
                {"cells_added_by_pieces", run.extra_pieces},
                {"points", run.points}};
+  if (run.convex_split.requested) {
+    const RunReport::ConvexSplit& cs = run.convex_split;
+    j["convex"] = {{"cells_split", cs.cells_split},
+                   {"pieces", cs.pieces},
+                   {"most_pieces_of_a_cell", cs.max_pieces},
+                   {"cells_left_nonconvex", cs.left_nonconvex},
+                   {"smallest_piece_volume_over_r3", cs.smallest_piece_volume},
+                   {"piece_aspect_mean", cs.piece_aspect_mean},
+                   {"piece_aspect_max", cs.piece_aspect_max},
+                   {"piece_min_dihedral", cs.piece_min_dihedral}};
+  }
   j["volume"] = {{"domain", run.domain_volume},
                  {"cells_sum", run.volume_sum},
                  {"relative_error", run.volume_relative_error()}};

@@ -290,6 +290,14 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.piece_of(c)));
       },
       "Int32", "piece");
+  if (!m.parent.empty())
+    xml << data_array(
+        w, n * 4,
+        [&](std::ostream& out) {
+          ValueWriter<int32_t> vw(out);
+          for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.parent[c]));
+        },
+        "Int32", "parent");
   xml << data_array(
       w, n * 24,
       [&](std::ostream& out) {

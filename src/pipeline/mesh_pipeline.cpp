@@ -10,11 +10,13 @@
 #include <fmt/format.h>
 
 #include "common/memory.hpp"
+#include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"
 #include "froth/validate.hpp"
 #include "froth/weld.hpp"
+#include "convex/convex_split.hpp"
 #include "features/feature_size.hpp"
 #include "sampling/graded_mps.hpp"
 #include "sampling/sizing.hpp"
@@ -232,6 +234,25 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   for (double v : mesh.volumes) run.volume_sum += v;
 }
 
+// --convex: the quality of the pieces of split cells (cells whose parent became several).
+void measure_pieces(const PolyMesh& mesh, RunReport::ConvexSplit& split) {
+  if (mesh.quality.size() != mesh.cell_count() || mesh.parent.empty()) return;
+  std::vector<uint32_t> count(mesh.cell_count(), 0);
+  for (uint32_t p : mesh.parent) ++count[p];
+  double sum = 0;
+  size_t n = 0;
+  split.piece_min_dihedral = 180;
+  for (size_t c = 0; c < mesh.cell_count(); ++c) {
+    if (count[mesh.parent[c]] < 2) continue;
+    const CellQuality& q = mesh.quality[c];
+    sum += q.aspect, ++n;
+    split.piece_aspect_max = std::max(split.piece_aspect_max, q.aspect);
+    split.piece_min_dihedral = std::min(split.piece_min_dihedral, q.min_dihedral);
+  }
+  split.piece_aspect_mean = n ? sum / double(n) : 0;
+  if (n == 0) split.piece_min_dihedral = 0;
+}
+
 }  // namespace
 
 PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* report) {
@@ -264,7 +285,14 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   watch.lap();
 
   const WeldedCells welded = weld_stage(mesh, opt, run, watch);
+  if (opt.convex) {
+    progress("convex");
+    run.convex_split = split_nonconvex_cells(mesh, domain.planes, tol::convex(opt.r));
+    run.convex_split.smallest_piece_volume /= opt.r * opt.r * opt.r;
+    run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
+  }
   finish_mesh(domain, mesh, opt, run, welded, watch);
+  if (opt.convex) measure_pieces(mesh, run.convex_split);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;
@@ -276,6 +304,8 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   RunReport& run = report ? *report : local_run;
   PartitionReport local_part;
   PartitionReport& part = partition ? *partition : local_part;
+  if (opt.convex)
+    fail(ErrorKind::Usage, "--convex is not available with --partition: a cut carries into cells on other ranks");
   start_run(domain, opt, run, 1.0 / comm.size());
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
@@ -349,6 +379,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
       welded.before.push_back(welded_ring.before[k]);
     }
   finish_mesh(domain, mesh, opt, run, welded, watch);
+  if (opt.convex) measure_pieces(mesh, run.convex_split);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;

@@ -87,6 +87,11 @@ void check_mesh_options(const Domain& domain, const MeshOptions& opt, double sha
   if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
   if (!(opt.weld >= 0) || !(opt.weld < opt.r))
     fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {:.6g}", opt.weld));
+  if (opt.convex && opt.weld > 0)
+    fail(ErrorKind::Usage, fmt::format("--convex cannot be combined with welding (--weld {:.6g}): welding bends faces out "
+                                       "of their planes, and a convex cell needs planar faces; with --convex the "
+                                       "default weld is 0",
+                                       opt.weld));
   // Squared distances of coordinates and radii must stay far from underflow and overflow.
   const Vec3 size = domain.bounds.size();
   const double extent = std::max({size.x, size.y, size.z});

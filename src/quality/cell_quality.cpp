@@ -110,11 +110,11 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
     if (x.ends != y.ends) continue;
     ++k;
     q.min_edge = std::min(q.min_edge, norm(m.points[x.a()] - m.points[x.b()]));
-    // Two faces toward one neighbour meet only where a face with holes was cut into triangles
-    // (assembly/holed_faces): a line in a plane, not an edge of the cell's shape. (Border faces
-    // read back from a VTU all share one generator: they are not skipped.)
+    // Two coplanar faces meet along a line in a plane, not an edge of the cell's shape: where a
+    // face with holes was cut into triangles (assembly/holed_faces), or a face split where a
+    // neighbour was cut in convex pieces (--convex).
     const int32_t gx = m.face_generator[f0 + x.face()], gy = m.face_generator[f0 + y.face()];
-    if (gx == gy && gx >= 0 && dot(w.normals[x.face()], w.normals[y.face()]) > 1 - 1e-9) continue;
+    if (dot(w.normals[x.face()], w.normals[y.face()]) > 1 - 1e-9) continue;
     // The angle inside the cell between two faces is pi minus the angle of their outward normals
     // at a convex edge, pi plus it at a reflex one (star-shaped cells of non-convex domains):
     // convex when the normals turn along the edge as the first face runs it.

@@ -1,4 +1,5 @@
 """What the end-to-end scripts share: counted checks, running froth, VTK's readers."""
+import shutil
 import subprocess
 import sys
 
@@ -39,6 +40,15 @@ def face_stream(grid, cell, point_id=int):
         faces.append(tuple(point_id(v) for v in stream[k + 1:k + 1 + n]))
         k += 1 + n
     return faces
+
+
+CHECKMESH = shutil.which("checkMesh") or "/usr/bin/checkMesh"
+
+
+def checkmesh(case):
+    """OpenFOAM's checkMesh, in the environment Debian's OpenFOAM sets up."""
+    return subprocess.run(["bash", "-c", 'source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case "$0"', case],
+                          capture_output=True, text=True)
 
 
 def summary():

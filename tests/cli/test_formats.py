@@ -14,18 +14,9 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from harness import check, face_stream, failures, froth, read_vtk, summary  # noqa: E402
+from harness import CHECKMESH, check, checkmesh, face_stream, failures, froth, read_vtk, summary  # noqa: E402
 
 MODELS = sys.argv[2]
-CHECKMESH = shutil.which("checkMesh") or "/usr/bin/checkMesh"
-
-
-def checkmesh(case):
-    """OpenFOAM's checkMesh, in the environment Debian's OpenFOAM sets up."""
-    return subprocess.run(["bash", "-c", 'source /usr/share/openfoam/etc/bashrc >/dev/null 2>&1; checkMesh -case "$0"', case],
-                          capture_output=True, text=True)
-
-
 def vtu_cells(path):
     """Per cell its volume and faces (tuples of point ids), from VTK's reader."""
     g = read_vtk(path)

@@ -31,6 +31,7 @@ def same_bytes(a, b):
     (str(MODELS / "7_8ths_cube.stl"), dict(r=4, seed=11), ["-r", "4", "--seed", "11"]),
     (str(MODELS / "hinge.stl"), dict(cells=2000, seed=5, weld=0), ["--cells", "2000", "--seed", "5", "--weld", "0"]),
     (str(MODELS / "unit_sphere.STL"), dict(r=0.25, seed=2, quality=False), ["-r", "0.25", "--seed", "2", "--no-quality"]),
+    (str(MODELS / "hollow_sphere.off"), dict(r=0.1, seed=3, convex=True), ["-r", "0.1", "--seed", "3", "--convex"]),
 ])
 def test_write_gives_the_command_lines_bytes(tmp_path, surface, options, flags):
     mesh = froth.mesh(surface, **options)
@@ -38,6 +39,9 @@ def test_write_gives_the_command_lines_bytes(tmp_path, surface, options, flags):
         mesh.write(tmp_path / ("py_" + name))
         cli("mesh", surface, *flags, "-q", "-o", tmp_path / ("cli_" + name))
         assert same_bytes(tmp_path / ("py_" + name), tmp_path / ("cli_" + name)), name
+    if options.get("convex"):
+        parent = mesh.cell_data["parent"]
+        assert len(parent) == mesh.cell_count and np.bincount(parent).max() > 1
     if "cells" in options:
         assert abs(mesh.cell_count - options["cells"]) <= 0.05 * options["cells"]
         again = froth.mesh(surface, r=mesh.r, seed=options["seed"], weld=0)  # the r chosen repeats the run
