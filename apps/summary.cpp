@@ -55,7 +55,7 @@ std::vector<std::string> notes(const froth::RunReport& run) {
                                     cs.piece_aspect_max > 0 ? fmt::format(", pieces' aspect ratio mean {:.3g}, largest {:.3g}",
                                                                          cs.piece_aspect_mean, cs.piece_aspect_max)
                                                             : "",
-                                    cs.left_nonconvex ? fmt::format("; {} cells left non-convex (no face plane cut them cleanly)", cs.left_nonconvex) : ""));
+                                    cs.left_nonconvex ? fmt::format("; {} cells left non-convex by up to {:.2g} r (every cut would leave a sliver or pinch a face)", cs.left_nonconvex, cs.left_violation) : ""));
   }
   if (run.not_star_shaped > 0)
     out.push_back(fmt::format("{} cells are not star-shaped from their seed (a face plane up to {:.3g} r beyond it): "

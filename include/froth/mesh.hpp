@@ -213,11 +213,13 @@ struct RunReport {
   // Seeds whose part of the domain fell in several pieces, and the cells those added (mesh.piece).
   size_t split_seeds = 0, extra_pieces = 0;
   // --convex: the cells split, the convex cells they became, the most pieces of one cell, the
-  // cells left non-convex (no face plane cut them cleanly) and the smallest piece's volume / r^3.
+  // cells left non-convex (every face plane's cut would pinch a face, leave a face with a hole or
+  // a sliver piece) and the smallest piece's volume / r^3.
   struct ConvexSplit {
     bool requested = false;
     size_t cells_split = 0, pieces = 0, max_pieces = 0, left_nonconvex = 0;
     double smallest_piece_volume = 0;
+    double left_violation = 0;  // the farthest a vertex of those left lies beyond a face plane, / r
     // The pieces' quality (when measured): aspect ratio mean and largest, smallest dihedral.
     double piece_aspect_mean = 0, piece_aspect_max = 0, piece_min_dihedral = 0;
   } convex_split;

@@ -49,6 +49,16 @@ double volume(const Cell& cell, const auto& at) {
   return v6 / 6;
 }
 
+// A cell's thickness, 2 volume / surface area: a slab's thickness, a cube's third of its side.
+double thickness(const Cell& cell, double volume, const auto& at) {
+  double area = 0;
+  for (const Face& f : cell) area += 0.5 * norm(newell(f.v, at));
+  return area > 0 ? 2 * volume / area : 0;
+}
+
+// A cut that would leave a piece thinner than this fraction of its cell is refused.
+constexpr double kSliver = 1e-4;
+
 std::vector<int32_t> sorted_vertices(const std::vector<int32_t>& v) {
   std::vector<int32_t> s = v;
   std::sort(s.begin(), s.end());
@@ -58,7 +68,12 @@ std::vector<int32_t> sorted_vertices(const std::vector<int32_t>& v) {
 class Splitter {
  public:
   Splitter(PolyMesh& m, const std::vector<Plane>& domain_planes, double tol)
-      : m_(m), domain_planes_(domain_planes), tol_(tol), n0_(m.cell_count()), min_piece_volume_(std::pow(tol * 1e4, 3)) {}
+      : m_(m), domain_planes_(domain_planes), tol_(tol), n0_(m.cell_count()), min_thickness_(tol * 1e3),
+        min_volume_(std::pow(tol * 1e12, 3) * 1e-13) {
+    double extent = 0;
+    for (const Vec3& p : m.points) extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    step_ = 1e-6 * (tol * 1e12 + extent);
+  }
 
   RunReport::ConvexSplit run() {
     RunReport::ConvexSplit stats;
@@ -77,7 +92,11 @@ class Splitter {
       stack.pop_back();
       const std::vector<int32_t> pieces = split_once(id);
       if (pieces.empty()) {
-        stats.left_nonconvex += !violating_faces(cell(id)).empty();
+        const double beyond = worst_violation(cell(id));
+        if (beyond > tol_) {
+          ++stats.left_nonconvex;
+          stats.left_violation = std::max(stats.left_violation, beyond / (tol_ * 1e12));
+        }
         continue;
       }
       for (auto p = pieces.rbegin(); p != pieces.rend(); ++p) stack.push_back(*p);
@@ -138,6 +157,15 @@ class Splitter {
     return it->second;
   }
 
+  // The farthest any vertex of the cell lies beyond any of its face planes.
+  double worst_violation(const Cell& cell) const {
+    double worst = 0;
+    for (const Face& f : cell)
+      for (const Face& g : cell)
+        for (int32_t p : g.v) worst = std::max(worst, f.plane.signed_distance(m_.points[size_t(p)]));
+    return worst;
+  }
+
   // The faces some vertex of the cell lies beyond by more than the tolerance, largest first.
   std::vector<Plane> violating_faces(const Cell& cell) const {
     std::vector<std::pair<double, Plane>> found;
@@ -174,10 +202,11 @@ class Splitter {
     std::vector<std::pair<int32_t, int32_t>> edges;   // the edge each lies on
     std::vector<Cell> pieces;
     std::vector<std::vector<int32_t>> face_with_cuts;  // each face of the cell, the new vertices in it
+    double thinnest = INFINITY;  // the thinnest piece's thickness over the cell's
   };
 
   // The cell cut by `cut` into pieces, or false where the cut is not clean.
-  bool attempt(const Cell& cell, const Plane& cut, Attempt& a) const {
+  bool attempt(const Cell& cell, const Plane& cut, Attempt& a, bool slivers) const {
     const double snap = 0.5 * tol_;
     std::unordered_map<int32_t, double> s;
     bool plus = false, minus = false;
@@ -308,14 +337,20 @@ class Splitter {
         if (f.from < 0 && f.cap_to < 0 && sorted_vertices(f.v) == key) f.cap_to = cap_piece[0][i];
     }
     const auto at_all = [&](int32_t p) { return point(p, a.fresh); };
-    // No sliver: a piece below this volume would be lost in the round-off of its own volume.
-    const double whole = volume(cell, at_all), smallest = std::max(min_piece_volume_, 1e-9 * whole);
+    // No sliver: a piece thinner than 1e-9 r, or smaller than 1e-13 r^3, is lost in the
+    // round-off of its own volume (taken from the seed, up to 2 r away: 1e-15 r^3); one far
+    // thinner than its cell is a cut past a step of the input's round-off (a float STL's
+    // coplanar facets 1e-7 r apart), worse for a solver than the step it removes.
+    const double whole = volume(cell, at_all);
+    const double cell_thickness = thickness(cell, whole, at_all);
     double sum = 0;
     for (const Cell& piece : a.pieces) {
       const double v = volume(piece, at_all);
-      if (!(v > smallest)) return false;
+      if (!(v >= min_volume_) || !(thickness(piece, v, at_all) >= min_thickness_)) return false;
+      a.thinnest = std::min(a.thinnest, thickness(piece, v, at_all) / cell_thickness);
       sum += v;
     }
+    if (!slivers && a.thinnest < kSliver) return false;
     return std::abs(sum - whole) <= 1e-9 * std::abs(whole);
   }
 
@@ -342,7 +377,10 @@ class Splitter {
 
   // Cuts the cell once by the face plane that cuts it cleanly with the most room: the one whose
   // nearest vertex off it is farthest from it, so that no piece is a sliver where another plane
-  // would do. The pieces' ids (the first keeps the cell's), or none.
+  // would do. Where every clean cut leaves a sliver, a cell non-convex by more than the input's
+  // round-off is still cut, by the plane whose thinnest piece is thickest; one non-convex by
+  // less (a step between facets meant to be coplanar) is left. The pieces' ids (the first keeps
+  // the cell's), or none.
   std::vector<int32_t> split_once(int32_t id) {
     const Cell whole = cell(id);
     std::vector<std::pair<double, Plane>> ranked;
@@ -358,11 +396,15 @@ class Splitter {
     std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     for (const auto& [clearance, cut] : ranked) {
       Attempt a;
-      if (attempt(whole, cut, a)) {
-        return commit(id, whole, a);
-      }
+      if (attempt(whole, cut, a, false)) return commit(id, whole, a);
     }
-    return {};
+    if (worst_violation(whole) <= step_) return {};
+    Attempt best;
+    for (const auto& [clearance, cut] : ranked) {
+      Attempt a;
+      if (attempt(whole, cut, a, true) && (best.pieces.empty() || a.thinnest > best.thinnest)) best = std::move(a);
+    }
+    return best.pieces.empty() ? std::vector<int32_t>{} : commit(id, whole, best);
   }
 
   std::vector<int32_t> commit(int32_t id, const Cell& whole, Attempt& a) {
@@ -498,7 +540,8 @@ class Splitter {
   const std::vector<Plane>& domain_planes_;
   double tol_;
   size_t n0_;
-  double min_piece_volume_;  // (1e-8 r)^3
+  double min_thickness_, min_volume_;  // 1e-9 r, 1e-13 r^3
+  double step_;  // non-convexity up to this is the input's round-off: 1e-6 (r + the largest coordinate)
   std::unordered_map<int32_t, Cell> edited_;
   std::vector<uint32_t> parent_;  // of the cells made here (ids from n0_): the original cell
   std::unordered_map<int32_t, std::vector<int32_t>> children_;

@@ -57,6 +57,7 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"pieces", cs.pieces},
                    {"most_pieces_of_a_cell", cs.max_pieces},
                    {"cells_left_nonconvex", cs.left_nonconvex},
+                   {"left_vertex_beyond_face_plane_over_r", cs.left_violation},
                    {"smallest_piece_volume_over_r3", cs.smallest_piece_volume},
                    {"piece_aspect_mean", cs.piece_aspect_mean},
                    {"piece_aspect_max", cs.piece_aspect_max},
