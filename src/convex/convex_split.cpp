@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "common/tolerances.hpp"
 #include "common/union_find.hpp"
 #include "froth/error.hpp"
 
@@ -67,12 +68,12 @@ std::vector<int32_t> sorted_vertices(const std::vector<int32_t>& v) {
 
 class Splitter {
  public:
-  Splitter(PolyMesh& m, const std::vector<Plane>& domain_planes, double tol)
-      : m_(m), domain_planes_(domain_planes), tol_(tol), n0_(m.cell_count()), min_thickness_(tol * 1e3),
-        min_volume_(std::pow(tol * 1e12, 3) * 1e-13) {
+  Splitter(PolyMesh& m, const std::vector<Plane>& domain_planes, double r)
+      : m_(m), domain_planes_(domain_planes), r_(r), tol_(tol::convex(r)), n0_(m.cell_count()),
+        min_thickness_(1e-9 * r), min_volume_(1e-13 * r * r * r) {
     double extent = 0;
     for (const Vec3& p : m.points) extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    step_ = 1e-6 * (tol * 1e12 + extent);
+    step_ = 1e-6 * (r + extent);
   }
 
   RunReport::ConvexSplit run() {
@@ -95,7 +96,7 @@ class Splitter {
         const double beyond = worst_violation(cell(id));
         if (beyond > tol_) {
           ++stats.left_nonconvex;
-          stats.left_violation = std::max(stats.left_violation, beyond / (tol_ * 1e12));
+          stats.left_violation = std::max(stats.left_violation, beyond / r_);
         }
         continue;
       }
@@ -538,7 +539,7 @@ class Splitter {
 
   PolyMesh& m_;
   const std::vector<Plane>& domain_planes_;
-  double tol_;
+  double r_, tol_;
   size_t n0_;
   double min_thickness_, min_volume_;  // 1e-9 r, 1e-13 r^3
   double step_;  // non-convexity up to this is the input's round-off: 1e-6 (r + the largest coordinate)
@@ -550,8 +551,8 @@ class Splitter {
 
 }  // namespace
 
-RunReport::ConvexSplit split_nonconvex_cells(PolyMesh& mesh, const std::vector<Plane>& domain_planes, double tolerance) {
-  return Splitter(mesh, domain_planes, tolerance).run();
+RunReport::ConvexSplit split_nonconvex_cells(PolyMesh& mesh, const std::vector<Plane>& domain_planes, double r) {
+  return Splitter(mesh, domain_planes, r).run();
 }
 
 }  // namespace froth

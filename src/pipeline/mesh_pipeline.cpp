@@ -10,7 +10,6 @@
 #include <fmt/format.h>
 
 #include "common/memory.hpp"
-#include "common/tolerances.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"
@@ -287,7 +286,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   const WeldedCells welded = weld_stage(mesh, opt, run, watch);
   if (opt.convex) {
     progress("convex");
-    run.convex_split = split_nonconvex_cells(mesh, domain.planes, tol::convex(opt.r));
+    run.convex_split = split_nonconvex_cells(mesh, domain.planes, opt.r);
     run.convex_split.smallest_piece_volume /= opt.r * opt.r * opt.r;
     run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
   }
