@@ -52,9 +52,13 @@ std::vector<std::string> notes(const froth::RunReport& run) {
                       : fmt::format("--convex split {} non-convex cells into {} convex pieces (up to {} from one cell; "
                                     "cell data parent); the smallest piece {:.3g} r^3{}{}",
                                     cs.cells_split, cs.pieces, cs.max_pieces, cs.smallest_piece_volume,
-                                    cs.piece_aspect_max > 0 ? fmt::format(", pieces' aspect ratio mean {:.3g}, largest {:.3g}",
-                                                                         cs.piece_aspect_mean, cs.piece_aspect_max)
-                                                            : "",
+                                    cs.piece_aspect_max > 0
+                                        ? fmt::format(", pieces' aspect ratio mean {:.3g}, largest {:.3g}{}", cs.piece_aspect_mean,
+                                                      cs.piece_aspect_max,
+                                                      cs.pieces_without_ball
+                                                          ? fmt::format(" ({} too thin to measure)", cs.pieces_without_ball)
+                                                          : "")
+                                        : "",
                                     cs.left_nonconvex ? fmt::format("; {} cells left non-convex by up to {:.2g} r (every cut would leave a sliver or pinch a face)", cs.left_nonconvex, cs.left_violation) : ""));
   }
   if (run.not_star_shaped > 0)

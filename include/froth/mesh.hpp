@@ -220,8 +220,10 @@ struct RunReport {
     size_t cells_split = 0, pieces = 0, max_pieces = 0, left_nonconvex = 0;
     double smallest_piece_volume = 0;
     double left_violation = 0;  // the farthest a vertex of those left lies beyond a face plane, / r
-    // The pieces' quality (when measured): aspect ratio mean and largest, smallest dihedral.
+    // The pieces' quality (when measured): aspect ratio mean and largest, smallest dihedral,
+    // over the pieces with an inscribed ball; pieces too thin for its linear program apart.
     double piece_aspect_mean = 0, piece_aspect_max = 0, piece_min_dihedral = 0;
+    size_t pieces_without_ball = 0;
   } convex_split;
   double domain_volume = 0, volume_sum = 0;
   double surface_area = 0;  // of the domain

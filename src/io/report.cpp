@@ -61,7 +61,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"smallest_piece_volume_over_r3", cs.smallest_piece_volume},
                    {"piece_aspect_mean", cs.piece_aspect_mean},
                    {"piece_aspect_max", cs.piece_aspect_max},
-                   {"piece_min_dihedral", cs.piece_min_dihedral}};
+                   {"piece_min_dihedral", cs.piece_min_dihedral},
+                   {"pieces_without_inscribed_ball", cs.pieces_without_ball}};
   }
   j["volume"] = {{"domain", run.domain_volume},
                  {"cells_sum", run.volume_sum},

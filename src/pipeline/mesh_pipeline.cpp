@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -244,6 +245,10 @@ void measure_pieces(const PolyMesh& mesh, RunReport::ConvexSplit& split) {
   for (size_t c = 0; c < mesh.cell_count(); ++c) {
     if (count[mesh.parent[c]] < 2) continue;
     const CellQuality& q = mesh.quality[c];
+    if (!std::isfinite(q.aspect)) {  // too thin for the inscribed ball's linear program
+      ++split.pieces_without_ball;
+      continue;
+    }
     sum += q.aspect, ++n;
     split.piece_aspect_max = std::max(split.piece_aspect_max, q.aspect);
     split.piece_min_dihedral = std::min(split.piece_min_dihedral, q.min_dihedral);
