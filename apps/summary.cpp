@@ -56,10 +56,13 @@ std::vector<std::string> notes(const froth::RunReport& run) {
                                         ? fmt::format(", pieces' aspect ratio mean {:.3g}, largest {:.3g}{}", cs.piece_aspect_mean,
                                                       cs.piece_aspect_max,
                                                       cs.pieces_without_ball
-                                                          ? fmt::format(" ({} too thin to measure)", cs.pieces_without_ball)
+                                                          ? fmt::format(" ({} without an inscribed ball found)", cs.pieces_without_ball)
                                                           : "")
                                         : "",
-                                    cs.left_nonconvex ? fmt::format("; {} cells left non-convex by up to {:.2g} r (every cut would leave a sliver or pinch a face)", cs.left_nonconvex, cs.left_violation) : ""));
+                                    cs.left_nonconvex ? fmt::format("; {} cells left non-convex by up to {:.2g} r (no face "
+                                                                    "plane cuts them cleanly)",
+                                                                    cs.left_nonconvex, cs.left_violation)
+                                                      : ""));
   }
   if (run.not_star_shaped > 0)
     out.push_back(fmt::format("{} cells are not star-shaped from their seed (a face plane up to {:.3g} r beyond it): "

@@ -221,7 +221,7 @@ struct RunReport {
     double smallest_piece_volume = 0;
     double left_violation = 0;  // the farthest a vertex of those left lies beyond a face plane, / r
     // The pieces' quality (when measured): aspect ratio mean and largest, smallest dihedral,
-    // over the pieces with an inscribed ball; pieces too thin for its linear program apart.
+    // over the pieces with an inscribed ball; those whose linear program found none apart.
     double piece_aspect_mean = 0, piece_aspect_max = 0, piece_min_dihedral = 0;
     size_t pieces_without_ball = 0;
   } convex_split;

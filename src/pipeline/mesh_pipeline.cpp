@@ -245,7 +245,7 @@ void measure_pieces(const PolyMesh& mesh, RunReport::ConvexSplit& split) {
   for (size_t c = 0; c < mesh.cell_count(); ++c) {
     if (count[mesh.parent[c]] < 2) continue;
     const CellQuality& q = mesh.quality[c];
-    if (!std::isfinite(q.aspect)) {  // too thin for the inscribed ball's linear program
+    if (!std::isfinite(q.aspect)) {  // the inscribed ball's linear program found none
       ++split.pieces_without_ball;
       continue;
     }
