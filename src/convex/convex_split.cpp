@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "common/face_plane.hpp"
 #include "common/tolerances.hpp"
 #include "common/union_find.hpp"
 #include "froth/error.hpp"
@@ -29,13 +30,13 @@ struct Face {
 };
 using Cell = std::vector<Face>;
 
-Vec3 newell(const std::vector<int32_t>& v, const auto& at) {
-  Vec3 n{};
-  for (size_t k = 0; k < v.size(); ++k) {
-    const Vec3 a = at(v[k]), b = at(v[(k + 1) % v.size()]);
-    n = n + Vec3{(a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y)};
-  }
-  return n;
+// A polygon's best-fit plane (common/face_plane.hpp), from its first vertex so that a small face
+// far from the origin keeps its digits.
+FacePlane polygon_plane(const std::vector<int32_t>& v, const auto& at) {
+  const Vec3 o = at(v.front());
+  FacePlane p = best_fit_plane(v.size(), [&](size_t k) { return at(v[k]) - o; });
+  p.centroid = p.centroid + o;
+  return p;
 }
 
 double volume(const Cell& cell, const auto& at) {
@@ -53,7 +54,7 @@ double volume(const Cell& cell, const auto& at) {
 // A cell's thickness, 2 volume / surface area: a slab's thickness, a cube's third of its side.
 double thickness(const Cell& cell, double volume, const auto& at) {
   double area = 0;
-  for (const Face& f : cell) area += 0.5 * norm(newell(f.v, at));
+  for (const Face& f : cell) area += polygon_plane(f.v, at).area;
   return area > 0 ? 2 * volume / area : 0;
 }
 
@@ -131,13 +132,8 @@ class Splitter {
       for (int32_t p : v) off = std::max(off, std::abs(exact.signed_distance(at(p))));
       if (off <= tol_) return exact;
     }
-    const Vec3 n = newell(v, at);
-    Plane p;
-    p.normal = (1.0 / norm(n)) * n;
-    Vec3 centroid{};
-    for (int32_t q : v) centroid = centroid + at(q);
-    p.offset = dot(p.normal, (1.0 / double(v.size())) * centroid);
-    return p;
+    const FacePlane fit = polygon_plane(v, at);
+    return {fit.normal, dot(fit.normal, fit.centroid)};
   }
 
   Cell original(int32_t c) const {
@@ -177,7 +173,7 @@ class Splitter {
         for (int32_t p : g.v) beyond = beyond || f.plane.signed_distance(at(p)) > tol_;
         if (beyond) break;
       }
-      if (beyond) found.push_back({norm(newell(f.v, at)), f.plane});
+      if (beyond) found.push_back({polygon_plane(f.v, at).area, f.plane});
     }
     std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     std::vector<Plane> out;
@@ -293,8 +289,7 @@ class Splitter {
         }
         for (int32_t p : loop) next.erase(p);
         std::reverse(loop.begin(), loop.end());  // the cap closes the side: its edges run the other way
-        const Vec3 n = newell(loop, at);
-        if (loop.size() < 3 || dot(n, cut.normal) * (k == 0 ? 1 : -1) <= 0) return false;
+        if (loop.size() < 3 || dot(polygon_plane(loop, at).normal, cut.normal) * (k == 0 ? 1 : -1) <= 0) return false;
         caps[k].push_back(std::move(loop));
       }
     }
@@ -529,7 +524,7 @@ class Splitter {
       }
       out.cell_face_begin.push_back(int64_t(out.face_generator.size()));
     }
-    stats.smallest_piece_volume = std::isfinite(smallest) ? smallest : 0;
+    stats.smallest_piece_volume = std::isfinite(smallest) ? smallest / (r_ * r_ * r_) : 0;
     out.r = m_.r;
     out.random_seed = m_.random_seed;
     out.border_planes_known = m_.border_planes_known;

@@ -292,7 +292,6 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   if (opt.convex) {
     progress("convex");
     run.convex_split = split_nonconvex_cells(mesh, domain.planes, opt.r);
-    run.convex_split.smallest_piece_volume /= opt.r * opt.r * opt.r;
     run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
   }
   finish_mesh(domain, mesh, opt, run, welded, watch);
