@@ -58,8 +58,7 @@ froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
-  // --convex needs planar faces, which welding bends: no weld unless asked (and then refused).
-  opt.weld = a.weld >= 0 ? a.weld : a.convex ? 0 : froth::default_weld_tolerance(a.r, domain.bounds.diagonal());
+  opt.weld = a.weld >= 0 ? a.weld : froth::default_weld_tolerance(a.r, domain.bounds.diagonal(), a.convex);
   opt.convex = a.convex;
   opt.threads = a.threads;
   opt.quality = !a.no_quality;

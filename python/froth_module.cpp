@@ -44,13 +44,15 @@ py::array vec3_view(const py::handle& owner, const froth::Vec3* data, size_t cou
 // that the same options give the same mesh, byte for byte.
 froth::MeshOptions mesh_options(const froth::Domain& domain, double r, double cells, uint64_t seed,
                                 std::optional<double> weld, bool quality, int threads, bool grade,
-                                std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb) {
+                                std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb,
+                                bool convex) {
   if (cells != 0 && !(cells > 0 && std::isfinite(cells)))
     froth::fail(froth::ErrorKind::Usage, "cells must be a positive number, got " + std::to_string(cells));
   froth::MeshOptions opt;
   opt.r = cells > 0 ? froth::radius_for_cells(domain, cells, seed) : r;
   opt.seed = seed;
-  opt.weld = weld ? *weld : froth::default_weld_tolerance(opt.r, domain.bounds.diagonal());
+  opt.weld = weld ? *weld : froth::default_weld_tolerance(opt.r, domain.bounds.diagonal(), convex);
+  opt.convex = convex;
   opt.threads = threads;
   opt.quality = quality;
   opt.grade = grade, opt.min_r = min_r.value_or(0), opt.grading = max_grading;
@@ -267,10 +269,8 @@ PYBIND11_MODULE(_froth, m) {
          int threads, bool grade, std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb,
          bool convex) {
         py::gil_scoped_release unlocked;
-        froth::MeshOptions opt =
-            mesh_options(domain, r, cells, seed, convex && !weld ? std::optional<double>(0) : weld, quality, threads,
-                         grade, min_r, max_grading, max_memory_gb);
-        opt.convex = convex;
+        const froth::MeshOptions opt = mesh_options(domain, r, cells, seed, weld, quality, threads, grade, min_r,
+                                                    max_grading, max_memory_gb, convex);
         return make_mesh(domain, opt, cells);
       },
       py::arg("domain"), py::arg("r") = 0.0, py::arg("cells") = 0.0, py::arg("seed") = 0, py::arg("weld") = py::none(),
