@@ -22,7 +22,12 @@ const CLI::Validator kFiniteNonNegative(
     "FINITE >= 0");
 
 CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
-  app.add_option("input", a.input, "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY)")->required();
+  app.add_option("input", a.inputs,
+                 "box:X0,Y0,Z0,X1,Y1,Z1 or a closed surface (STL, OBJ, OFF, PLY); several: one region each")
+      ->required()
+      ->each([&a](const std::string& s) {
+        if (a.input.empty()) a.input = s;
+      });
   CLI::Option* radius =
       app.add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one");
   app.add_option("--seed", a.seed_text, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")

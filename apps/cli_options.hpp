@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -15,7 +16,8 @@ namespace froth_cli {
 inline const std::string kVtuDescription = "a VTK XML unstructured grid of polyhedra that ParaView and VTK read";
 
 struct CommonArgs {
-  std::string input;
+  std::vector<std::string> inputs;  // several: one region each (a multi-region solid)
+  std::string input;                // the first
   double r = -INFINITY;  // -INFINITY: not given
   std::string seed_text = "0";
   uint64_t seed = 0;  // parsed from seed_text (cli_guards)

@@ -83,7 +83,7 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
 struct Reading {
   explicit Reading(const MeshArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
-    domain = froth::load_domain(a.input, a.load_options());
+    domain = froth::load_regions(a.inputs, a.load_options());
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     peak_bytes = froth::peak_rss_bytes();
   }
@@ -255,7 +255,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   froth::FolderLock lock;  // rank 0 holds the folder until the run ends
   int code = froth_cli::run_with_exit_codes(
       [&] {
-        domain = froth::load_domain(a.input, a.load_options());
+        domain = froth::load_regions(a.inputs, a.load_options());
         opt.weld = froth_cli::mesh_options(a, *domain).weld;
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
         if (world.rank == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);

@@ -49,6 +49,7 @@ inline constexpr double kDefaultFeatureAngle = 30;
 
 
 class SurfaceLocator;
+struct RegionSet;
 
 struct Domain {
   std::string description;      // "box:..." or the file name
@@ -67,8 +68,46 @@ struct Domain {
   double volume = 0;
   double surface_area = 0;
   std::shared_ptr<const SurfaceLocator> locator;  // inside tests and nearby triangles
+  // Several regions (a multi-region solid, paper §2.2 "Non-manifold geometry"): this domain is
+  // their union, and the regions' solids and interfaces are here. Null: one region.
+  std::shared_ptr<const RegionSet> regions;
 
   bool contains(Vec3 p) const;
+};
+
+// The regions of a multi-region solid: the parts of space its closed surfaces bound, each
+// cell of the mesh in exactly one, with interfaces where two touch.
+//
+// Facets number the planes of all regions alike: a facet is an edge-connected group of coplanar
+// triangles with the same region on each side, so one facet is one interface (or one piece of
+// the outer boundary) and the vertices that cells name by it agree on both of its sides.
+struct RegionSet {
+  std::vector<std::string> names;
+  // Region k as a domain of its own: its surface oriented out of it, on the shared vertices,
+  // `planes` indexed by facet and oriented out of region k (facets it does not touch: as
+  // facet_planes), `triangle_plane` its triangles' facets.
+  std::vector<Domain> solids;
+  std::vector<Plane> facet_planes;                   // normal from facet_sides[f][0] to [1]
+  std::vector<std::array<int32_t, 2>> facet_sides;   // region behind the normal, in front (-1: outside)
+  // The union with its border triangles on facets (as the mesh's border faces name them).
+  Domain boundary;
+  // Every edge of every region's surface as (smaller vertex, larger), sorted: the ids that
+  // vertices on an input edge are named by, the same in every region.
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  struct Interface {
+    int32_t a = 0, b = 0;  // a < b
+    double area = 0;
+  };
+  std::vector<Interface> interfaces;
+  size_t interface_triangles = 0;
+
+  size_t size() const { return names.size(); }
+  bool is_interface(int32_t facet) const { return facet_sides[size_t(facet)][1] >= 0; }
+  // The region on the other side of facet f from region k.
+  int32_t across(int32_t facet, int32_t k) const {
+    const auto& s = facet_sides[size_t(facet)];
+    return s[0] == k ? s[1] : s[0];
+  }
 };
 
 struct DomainOptions {
@@ -89,7 +128,20 @@ Domain parse_box_spec(const std::string& spec);
 // Error(Usage) for a feature angle outside (0, 180). `name` is used in error messages.
 Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, const DomainOptions& options = {});
 
-// A box spec or a surface file, whichever `input` names.
+// A box spec or a surface file, whichever `input` names. A file whose shells share triangles
+// (listed twice, opposite ways: two solids touching along a face) is a multi-region solid, one
+// region per solid (Domain::regions).
 Domain load_domain(const std::string& input, const DomainOptions& options = {});
+
+// Several closed surfaces, one region each, named `names` (file stems): solids that share
+// triangles touch there (an interface), a solid inside another is an inclusion (the outer
+// region is the part outside it). Vertices with bit-equal coordinates are one. Returns their
+// union with Domain::regions set. Throws Error(InvalidInput) where regions overlap or cross,
+// naming the regions and a point.
+Domain domain_from_regions(const std::vector<TriangleSurface>& surfaces, const std::vector<std::string>& names,
+                           const DomainOptions& options = {});
+
+// Reads every input (files only) and makes them one multi-region domain (one input: load_domain).
+Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions& options = {});
 
 }  // namespace froth

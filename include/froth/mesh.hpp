@@ -100,10 +100,17 @@ struct PolyMesh {
   std::vector<uint8_t> near_graded;
   // --convex: the cell each cell was split from (MeshOptions::convex); empty: none was split.
   std::vector<uint32_t> parent;
+  // A multi-region solid's (froth/domain.hpp's RegionSet): each cell's region, an index into
+  // region_names. Empty: one region. Faces between cells of two regions are interface faces.
+  std::vector<int32_t> region;
+  std::vector<std::string> region_names;
+  // While cells are assembled only: each face's region.
+  std::vector<int32_t> face_region;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }
   uint32_t parent_of(size_t c) const { return parent.empty() ? uint32_t(c) : parent[c]; }
+  int32_t region_of(size_t c) const { return region.empty() ? 0 : region[c]; }
   Vec3 center_of(size_t c) const { return centers.empty() ? seeds[c] : centers[c]; }
   double radius_of(size_t c, double r) const { return radii.empty() ? r : radii[c]; }
   size_t face_count() const { return face_generator.size(); }

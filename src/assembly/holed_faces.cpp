@@ -118,6 +118,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
 
   // The face arrays again, each group replaced by its triangles.
   Buffer<int32_t> generator, vertices;
+  std::vector<int32_t> region;
   Buffer<int64_t> vertex_begin;
   std::vector<int64_t> cell_begin(m.cell_count() + 1);
   size_t next = 0;  // the next group
@@ -127,6 +128,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
     if (next < holed.size() && holed[next].face == f) {
       for (const auto& t : tris[next]) {
         generator.push_back(m.face_generator[f]);
+        if (!m.face_region.empty()) region.push_back(m.face_region[f]);
         vertex_begin.push_back(int64_t(vertices.size()));
         vertices.insert(vertices.end(), t.begin(), t.end());
       }
@@ -134,6 +136,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
       continue;
     }
     generator.push_back(m.face_generator[f]);
+    if (!m.face_region.empty()) region.push_back(m.face_region[f]);
     vertex_begin.push_back(int64_t(vertices.size()));
     vertices.insert(vertices.end(), m.face_vertices.begin() + m.face_vertex_begin[f],
                     m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
@@ -142,6 +145,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
   while (cell <= m.cell_count()) cell_begin[cell++] = int64_t(generator.size());
   vertex_begin.push_back(int64_t(vertices.size()));
   m.face_generator = std::move(generator);
+  if (!m.face_region.empty()) m.face_region = std::move(region);
   m.face_vertex_begin = std::move(vertex_begin);
   m.face_vertices = std::move(vertices);
   m.cell_face_begin = std::move(cell_begin);

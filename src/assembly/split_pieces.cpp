@@ -19,38 +19,53 @@ double solid_angle(Vec3 a, Vec3 b, Vec3 c) {
   return 2 * std::atan2(num, den);
 }
 
+// A cell's vertex in one of its regions (a multi-region solid's parts of a cell share the
+// interface's vertices, but each part is a piece of its own).
+using RegionVertex = std::pair<int32_t, int32_t>;  // (vertex, region)
+
 // One split cell: the piece of each of its faces, in the new order (the anchor's piece first),
-// and the piece of each of its vertices, sorted by vertex, for the neighbours' look-ups.
+// the piece of each of its vertices per region, sorted, for the neighbours' look-ups, and each
+// piece's region.
 struct Pieces {
   int count = 0;
   std::vector<uint32_t> of_face;
-  std::vector<std::pair<int32_t, uint32_t>> of_vertex;
-  uint32_t piece_of_vertex(int32_t v) const {
-    const auto it = std::lower_bound(of_vertex.begin(), of_vertex.end(), std::pair<int32_t, uint32_t>{v, 0});
-    return it != of_vertex.end() && it->first == v ? it->second : 0;
+  std::vector<std::pair<RegionVertex, uint32_t>> of_vertex;
+  std::vector<int32_t> region;
+  uint32_t piece_of_vertex(int32_t v, int32_t in_region) const {
+    const RegionVertex key{v, in_region};
+    const auto it = std::lower_bound(of_vertex.begin(), of_vertex.end(), std::pair<RegionVertex, uint32_t>{key, 0});
+    return it != of_vertex.end() && it->first == key ? it->second : 0;
   }
 };
 
 Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
   Pieces out;
   const int64_t f0 = m.cell_face_begin[s.cell], f1 = m.cell_face_begin[s.cell + 1];
-  std::vector<int32_t> verts(m.face_vertices.begin() + m.face_vertex_begin[f0],
-                             m.face_vertices.begin() + m.face_vertex_begin[f1]);
+  auto region_of_face = [&](int64_t f) { return m.face_region.empty() ? 0 : m.face_region[size_t(f)]; };
+  std::vector<RegionVertex> verts;
+  for (int64_t f = f0; f < f1; ++f)
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+      verts.push_back({m.face_vertices[k], region_of_face(f)});
   std::sort(verts.begin(), verts.end());
   verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-  auto local = [&](int32_t v) { return int32_t(std::lower_bound(verts.begin(), verts.end(), v) - verts.begin()); };
+  auto local_in = [&](int32_t v, int32_t region) {
+    return int32_t(std::lower_bound(verts.begin(), verts.end(), RegionVertex{v, region}) - verts.begin());
+  };
   UnionFind parts(verts.size());
   for (int64_t f = f0; f < f1; ++f) {
     const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-    for (int64_t k = b + 1; k < e; ++k) parts.unite(local(m.face_vertices[b]), local(m.face_vertices[k]));
+    const int32_t rf = region_of_face(f);
+    for (int64_t k = b + 1; k < e; ++k) parts.unite(local_in(m.face_vertices[b], rf), local_in(m.face_vertices[k], rf));
   }
+  auto local_of_face = [&](int64_t f) { return local_in(m.face_vertices[m.face_vertex_begin[f]], region_of_face(f)); };
   // Components of the cell's boundary numbered in face order.
   std::vector<int32_t> number(verts.size(), -1);
   std::vector<uint32_t> face_piece;
   int components = 0;
+  std::vector<int32_t> component_region;
   for (int64_t f = f0; f < f1; ++f) {
-    const int32_t root = parts.find(local(m.face_vertices[m.face_vertex_begin[f]]));
-    if (number[root] < 0) number[root] = components++;
+    const int32_t root = parts.find(local_of_face(f));
+    if (number[root] < 0) number[root] = components++, component_region.push_back(region_of_face(f));
     face_piece.push_back(uint32_t(number[root]));
   }
   // Each component's signed volume and winding number about a point: a component of negative
@@ -74,17 +89,21 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
   winding_about(s.anchor, winding, &volume);
   std::vector<int32_t> piece_of(size_t(components), -1);  // component -> piece, in face order
   for (int c = 0; c < components; ++c)
-    if (volume[size_t(c)] > 0) piece_of[size_t(c)] = out.count++;
+    if (volume[size_t(c)] > 0) piece_of[size_t(c)] = out.count++, out.region.push_back(component_region[size_t(c)]);
   for (int64_t f = f0; f < f1 && out.count > 0; ++f) {
     const size_t c = face_piece[size_t(f - f0)];
     if (piece_of[c] >= 0) continue;
     winding_about(m.points[m.face_vertices[m.face_vertex_begin[f]]], around, nullptr);
     int host = -1;
     for (int h = 0; h < components; ++h)
-      if (volume[size_t(h)] > 0 && (host < 0 || around[size_t(h)] > around[size_t(host)])) host = h;
+      if (volume[size_t(h)] > 0 && component_region[size_t(h)] == component_region[c] &&
+          (host < 0 || around[size_t(h)] > around[size_t(host)]))
+        host = h;
+    if (host < 0) host = int(c);  // a cavity wall in no piece of its region: cannot happen for a closed part
     piece_of[c] = piece_of[size_t(host)];
   }
-  if (out.count == 0) out.count = 1, piece_of.assign(size_t(components), 0);  // cannot happen for a closed cell
+  if (out.count == 0)  // cannot happen for a closed cell
+    out.count = 1, piece_of.assign(size_t(components), 0), out.region.assign(1, component_region[0]);
   std::vector<double> piece_winding(size_t(out.count), 0.0), piece_volume(size_t(out.count), 0.0);
   for (int c = 0; c < components; ++c) {
     piece_winding[size_t(piece_of[size_t(c)])] += winding[size_t(c)];
@@ -92,12 +111,17 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
   }
   for (uint32_t& p : face_piece) p = uint32_t(piece_of[p]);
   const uint32_t home = uint32_t(std::max_element(piece_winding.begin(), piece_winding.end()) - piece_winding.begin());
-  // A piece too small to outlive welding (it would collapse to nothing) stays with the seed's.
+  // A piece too small to outlive welding (it would collapse to nothing) stays with the seed's,
+  // if it is in the seed's region (a cell never reaches into a region it is not in).
   std::vector<uint32_t> number_of(size_t(out.count));
-  uint32_t next = 1;
-  for (int p = 0; p < out.count; ++p)
-    number_of[size_t(p)] = uint32_t(p) == home || piece_volume[size_t(p)] < s.min_volume ? 0 : next++;
-  out.count = int(next);
+  std::vector<int32_t> region_of_number{out.region[home]};
+  for (int p = 0; p < out.count; ++p) {
+    const bool stays = uint32_t(p) == home || (piece_volume[size_t(p)] < s.min_volume && out.region[size_t(p)] == out.region[home]);
+    number_of[size_t(p)] = stays ? 0 : uint32_t(region_of_number.size());
+    if (!stays) region_of_number.push_back(out.region[size_t(p)]);
+  }
+  out.count = int(region_of_number.size());
+  out.region = std::move(region_of_number);
   auto renumber = [&](uint32_t p) { return number_of[p]; };
   for (uint32_t p : face_piece) out.of_face.push_back(renumber(p));
   for (size_t v = 0; v < verts.size(); ++v)
@@ -107,8 +131,18 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
 
 }  // namespace
 
-void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split) {
-  if (split.empty()) return;
+void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const RegionSet* regions) {
+  if (regions) {
+    // Every cell's region: its faces' (one region for a cell that is not split).
+    m.region.resize(m.cell_count());
+    for (size_t c = 0; c < m.cell_count(); ++c)
+      m.region[c] = m.cell_face_begin[c] < m.cell_face_begin[c + 1] ? m.face_region[size_t(m.cell_face_begin[c])] : 0;
+    m.region_names = regions->names;
+  }
+  if (split.empty()) {
+    m.face_region.clear();
+    return;
+  }
   const size_t n = m.cell_count();
   std::vector<Pieces> pieces(split.size());
 #pragma omp parallel for schedule(dynamic, 1)
@@ -130,15 +164,24 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split) {
   out.face_generator.resize(m.face_count());
   out.face_vertex_begin.resize(m.face_count() + 1);
   out.face_vertices.resize(m.face_vertices.size());
-  auto new_generator = [&](int32_t g, int64_t f) {
+  auto new_generator = [&](int32_t g, int64_t f, size_t c) {
+    const int32_t rf = m.face_region.empty() ? 0 : m.face_region[size_t(f)];
+    if (regions && g < 0 && regions->is_interface(generator_plane(g))) {
+      // An interface face: its twin is this cell's part on the other side.
+      g = int32_t(c);
+      const int32_t w = which[c];
+      const int32_t other = regions->across(generator_plane(m.face_generator[f]), rf);
+      return int32_t(first[c] + (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]], other)));
+    }
     if (g < 0 || is_other_piece_generator(g)) return g;
     const int32_t w = which[size_t(g)];
     // The twin face lies in the piece of the neighbour that has this face's vertices.
-    return int32_t(first[size_t(g)] + (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]])));
+    return int32_t(first[size_t(g)] +
+                   (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]], rf)));
   };
   int64_t face = 0, fv = 0;
-  auto copy_face = [&](int64_t f) {
-    out.face_generator[size_t(face)] = new_generator(m.face_generator[f], f);
+  auto copy_face = [&](int64_t f, size_t c) {
+    out.face_generator[size_t(face)] = new_generator(m.face_generator[f], f, c);
     out.face_vertex_begin[size_t(face)] = fv;
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
       out.face_vertices[size_t(fv++)] = m.face_vertices[k];
@@ -154,12 +197,14 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split) {
       out.seeds[cell] = m.seeds[c];
       out.kinds[cell] = p == 0 ? m.kinds[c] : CellKind::Fringe;
       out.piece[cell] = uint32_t(p);
+      if (regions) out.region.push_back(w < 0 ? m.region[c] : pieces[size_t(w)].region[size_t(p)]);
       for (int64_t f = f0; f < f1; ++f)
-        if (w < 0 || pieces[size_t(w)].of_face[size_t(f - f0)] == uint32_t(p)) copy_face(f);
+        if (w < 0 || pieces[size_t(w)].of_face[size_t(f - f0)] == uint32_t(p)) copy_face(f, c);
     }
   }
   out.cell_face_begin[cells] = face;
   out.face_vertex_begin[size_t(face)] = fv;
+  out.region_names = std::move(m.region_names);
   m = std::move(out);
 }
 

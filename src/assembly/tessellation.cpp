@@ -29,6 +29,7 @@
 #include "froth/error.hpp"
 #include "voronoi/convex_cell.hpp"
 #include "assembly/holed_faces.hpp"
+#include "assembly/region_cells.hpp"
 #include "assembly/split_pieces.hpp"
 
 namespace froth {
@@ -55,6 +56,7 @@ struct CellChunk {
   PagedVector<Vec3> owned_points;
   PagedVector<uint32_t> face_begin{0};       // per cell, into face_gen
   PagedVector<int32_t> face_gen;
+  PagedVector<int32_t> face_region;          // a multi-region solid's: each face's region
   PagedVector<uint8_t> face_size;            // 0: a face of over 255 vertices, its size in long_faces
   std::vector<uint32_t> long_faces;
   // Local vertex ids in bytes; a chunk switches to 16 bits once a (clipped) cell has more than
@@ -89,6 +91,7 @@ struct CellChunk {
     PagedVector<uint16_t>().swap(face_vert_wide);
     PagedVector<int32_t>().swap(other_keys);
     PagedVector<int32_t>().swap(face_gen);
+    PagedVector<int32_t>().swap(face_region);
     PagedVector<Vec3>().swap(owned_points);
     PagedVector<CellKind>().swap(kinds);
   }
@@ -196,8 +199,10 @@ class CellBuilder {
     if (stencil_offsets_.size() > size_t(kMaxStencil))
       fail(ErrorKind::Internal, fmt::format("the cells' grid stencil has {} cubes", stencil_offsets_.size()));
     stencil_span_ = span, stencil_reach_ = span * (int64_t(g.nx) * g.ny + g.nx + 1);
-    cut_by_planes_ = domain.convex && !clip_convex;
-    if (!cut_by_planes_) {
+    cut_by_planes_ = domain.convex && !clip_convex && !domain.regions;
+    if (domain.regions) {
+      regions_.emplace(*domain.regions, r);
+    } else if (!cut_by_planes_) {
       generators_.emplace(domain);
       triangles_.emplace(domain.surface, *domain.locator, 2.1 * r);  // a cell's box is at most 2.1 r wide
     }
@@ -206,6 +211,29 @@ class CellBuilder {
   // A clipper for one thread, or none for a convex domain.
   std::unique_ptr<CellClipper> make_clipper() const {
     return cut_by_planes_ ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
+  }
+
+  // A multi-region solid's clipper for one thread, or none.
+  std::unique_ptr<RegionClipper> make_region_clipper() const {
+    return regions_ ? std::make_unique<RegionClipper>(*regions_) : nullptr;
+  }
+
+  // The region each seed's anchor lies in (a multi-region solid's; empty otherwise).
+  std::vector<int32_t> seed_regions() const {
+    std::vector<int32_t> out;
+    if (!regions_) return out;
+    out.resize(sample_.seeds.size(), -1);
+    const RegionSet& set = regions_->set;
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (size_t i = 0; i < out.size(); ++i) {
+      const Vec3 p = sample_.seeds[i] + anchor_of(int32_t(i));
+      for (size_t k = 0; k < set.size() && out[i] < 0; ++k) {
+        const Box& b = set.solids[k].bounds;
+        if (p.x < b.lo.x || p.y < b.lo.y || p.z < b.lo.z || p.x > b.hi.x || p.y > b.hi.y || p.z > b.hi.z) continue;
+        if (set.solids[k].contains(p)) out[i] = int32_t(k);
+      }
+    }
+    return out;
   }
 
   // What went wrong with a cell (froth's fault on valid input: Internal).
@@ -222,7 +250,8 @@ class CellBuilder {
   // (then `is_clipped` is set) with `clipper`, the thread's own; returns no error or what went
   // wrong.
   CellError build(int32_t i, ConvexCell& cell, CellClipper* clipper, ClippedCell& clipped, bool& is_clipped,
-                  std::vector<Neighbour>& nb, std::vector<ConvexCell::Names>& names) const {
+                  std::vector<Neighbour>& nb, std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper = nullptr,
+                  RegionCell* in_regions = nullptr, int32_t own_region = -1) const {
     const Vec3 x = sample_.seeds[i];
     const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
     cell.reset_cube(half);
@@ -264,11 +293,16 @@ class CellBuilder {
       if (!usable(c)) return cut_failure(fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed));
       if (c == ConvexCell::Clip::Cut) bound = security_bound(cell.new_face_radius2()), exact = false;
     }
+    if (region_clipper) {
+      if (own_region < 0) return fmt::format("cell {} at ({}, {}, {}): its seed lies in no region", i, x.x, x.y, x.z);
+      std::string error;
+      if (!region_clipper->clip(i, x, anchor_of(i), own_region, cell, half, sample_.seeds, eps_, *in_regions, error))
+        return error;
+      return {};
+    }
     if (!cut_by_planes_) {
       std::string error;
-      // A protection seed lies on the surface: inside tests start from a point just off it.
-      const Sample::Protected* p = sample_.protection_of(i);
-      const Vec3 anchor = p ? 1e-6 * r_ * p->inward : Vec3{};
+      const Vec3 anchor = anchor_of(i);
       int32_t facet = -1;
       const CellClipper::Result result =
           clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
@@ -290,6 +324,12 @@ class CellBuilder {
   }
 
  private:
+  // A protection seed lies on the surface: inside tests start from a point just off it.
+  Vec3 anchor_of(int32_t i) const {
+    const Sample::Protected* p = sample_.protection_of(i);
+    return p ? 1e-6 * r_ * p->inward : Vec3{};
+  }
+
   // The seeds other than i within reach_ (2r, Lemma 1) of its seed x, in no particular order.
   void gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const {
     const double reach2 = reach_ * reach_;
@@ -346,6 +386,7 @@ class CellBuilder {
   bool cut_by_planes_ = true;  // a convex domain's cells are cut by its planes, others clipped
   std::optional<SurfaceGenerators> generators_;
   std::optional<TriangleGrid> triangles_;
+  std::optional<RegionSurfaces> regions_;
 };
 
 template <class Cell>
@@ -393,6 +434,7 @@ void append_cell(CellChunk& ch, int32_t i, Vec3 x, const Cell& cell, const std::
     // Neighbours by cell index; one that is not built is another piece's.
     if (g >= 0) g = g >= built.begin && g < built.end ? g - built.begin : kOtherPiece;
     ch.face_gen.push_back(g);
+    if constexpr (requires { cell.face_region(f); }) ch.face_region.push_back(cell.face_region(f));
     const size_t size = cell.face_size(f);
     ch.face_size.push_back(size <= 255 ? uint8_t(size) : 0);
     if (size > 255) ch.long_faces.push_back(uint32_t(size));
@@ -433,12 +475,15 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     first_bad = n, first_error = {};
     CellBuilder builder(domain, sample, r, clip_convex);
     std::atomic<size_t> chunks_done = 0;
+    const std::vector<int32_t> seed_region = builder.seed_regions();
 
 #pragma omp parallel
     {
       ConvexCell cell;
       ClippedCell clipped;
       const std::unique_ptr<CellClipper> clipper = builder.make_clipper();
+      const std::unique_ptr<RegionClipper> region_clipper = builder.make_region_clipper();
+      RegionCell in_regions;
       bool is_clipped = false;
       std::vector<Neighbour> nb;
       std::vector<ConvexCell::Names> names;
@@ -448,13 +493,20 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
         for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
           const int32_t i = first_seed + int32_t(k);
-          CellBuilder::CellError err = builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names);
+          CellBuilder::CellError err =
+              builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names, region_clipper.get(), &in_regions,
+                            seed_region.empty() ? -1 : seed_region[size_t(i)]);
           if (err.failed()) {
             std::lock_guard lock(error_mutex);
             if (k < first_bad) first_bad = k, first_error = err;
             break;
           }
           const Sample::Protected* protection = sample.protection_of(i);
+          if (region_clipper) {
+            append_cell(ch, i, sample.seeds[i], in_regions, in_regions.names(), protection, built);
+            if (in_regions.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
+            continue;
+          }
           if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
           else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
           if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
@@ -490,6 +542,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   mesh.kinds.resize(n);
   mesh.cell_face_begin.resize(n + 1);
   mesh.face_generator.resize(chunk_face[nchunks]);
+  if (domain.regions) mesh.face_region.resize(chunk_face[nchunks]);
   mesh.face_vertex_begin.resize(chunk_face[nchunks] + 1);
   mesh.face_vertices.resize(chunk_fv[nchunks]);
   mesh.cell_face_begin[n] = chunk_face[nchunks];
@@ -556,6 +609,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         mesh.cell_face_begin[i] = face;
         for (uint32_t f = ch.face_begin[k]; f < ch.face_begin[k + 1]; ++f) {
           mesh.face_generator[face] = ch.face_gen[f];
+          if (!ch.face_region.empty()) mesh.face_region[face] = ch.face_region[f];
           mesh.face_vertex_begin[face] = fv;
           const size_t size = ch.face_size[f] ? ch.face_size[f] : ch.long_faces[long_face++];
           for (size_t s = 0; s < size; ++s) mesh.face_vertices[fv++] = gid[ch.local_vertex(local_fv++)];
@@ -583,7 +637,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       const Vec3 x = mesh.seeds[size_t(k)];
       split.push_back({k, p ? x + 1e-6 * r * p->inward : x, min_piece_volume});
     }
-  split_pieces(mesh, split);
+  split_pieces(mesh, split, domain.regions.get());
   if (merged_degenerate > 0) drop_repeated_vertices(mesh);
   if (times) times->assembly = seconds_since(t0);
   return mesh;

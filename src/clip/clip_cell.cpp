@@ -32,6 +32,24 @@ SurfaceGenerators::SurfaceGenerators(const Domain& d) {
   edges = int32_t(id.size());
 }
 
+SurfaceGenerators::SurfaceGenerators(const Domain& d, const std::vector<std::pair<int32_t, int32_t>>& all_edges) {
+  const auto& T = d.surface.triangles;
+  planes = int32_t(d.planes.size());
+  edges = int32_t(all_edges.size());
+  seam.assign(all_edges.size(), 0);
+  std::vector<int32_t> first_plane(all_edges.size(), -1);
+  triangle_edges.resize(T.size());
+  for (size_t t = 0; t < T.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = T[t][k], b = T[t][(k + 1) % 3];
+      const auto it = std::lower_bound(all_edges.begin(), all_edges.end(), std::pair{std::min(a, b), std::max(a, b)});
+      const int32_t e = int32_t(it - all_edges.begin());
+      triangle_edges[t][k] = e;
+      if (first_plane[size_t(e)] < 0) first_plane[size_t(e)] = d.triangle_plane[t];
+      else seam[size_t(e)] = first_plane[size_t(e)] == d.triangle_plane[t];
+    }
+}
+
 namespace {
 
 using Names = ConvexCell::Names;
@@ -228,7 +246,7 @@ CellClipper::~CellClipper() = default;
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
                                       const std::vector<Vec3>& seeds, ClippedCell& out, int32_t& facet_cut,
-                                      std::string& error) {
+                                      std::string& error, bool anchor_inside) {
   const SurfaceLocator& locator = *domain_.locator;
   const TriangleSurface& S = domain_.surface;
   const size_t nv = cell.vertex_count(), nf = cell.face_count();
@@ -238,7 +256,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   Scratch& w = *s_;
   std::vector<int32_t>& tris = w.tris;
   triangles_.triangles_near(x + lo, x + hi, tris);
-  if (tris.empty()) return Result::Inside;
+  const Result whole = anchor_inside ? Result::Inside : Result::Outside;  // V, which holds the anchor
+  if (tris.empty()) return whole;
 
   // Every triangle that meets the cell's box lies in one facet plane (half the tube's border
   // cells): then V ∩ D is V below the plane (common/facet_planes.hpp). A protection seed lies on
@@ -246,15 +265,16 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   if (const int32_t facet = facet_plane_of(domain_, tris); anchor == Vec3{} && facet >= 0) {
     const Plane& P = domain_.planes[facet];
     const double offset = P.offset - dot(P.normal, x), margin = tol::clear_of_facet(half, domain_.bounds.diagonal());
-    bool clear = true, any_above = false;
+    bool clear = true, any_above = false, any_below = false;
     for (size_t v = 0; v < nv; ++v) {
       const double s = dot(P.normal, cell.vertex(v)) - offset;
       clear &= std::abs(s) > margin;
       any_above |= s > 0;
+      any_below |= s < 0;
     }
     if (clear) {
       facet_cut = facet;
-      return any_above ? Result::HalfSpace : Result::Inside;
+      return !any_below ? Result::Outside : any_above ? Result::HalfSpace : Result::Inside;
     }
   }
 
@@ -374,8 +394,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     }
   }
 
-  // No piece of the surface lies in V: V is whole, inside D like its anchor.
-  if (border.empty()) return Result::Inside;
+  // No piece of the surface lies in V: V is whole, on the anchor's side of D's surface.
+  if (border.empty()) return whole;
 
   // 2. Which of V's vertices are inside: parity from the anchor to one, then along V's edges,
   // toggling at each crossing.
@@ -426,7 +446,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   status.assign(nv, -1);
   for (size_t v = 0; v < nv; ++v) {
     bool in;
-    if (locator.side_from(x + anchor, true, x + cell.vertex(v), tris, in)) {
+    if (locator.side_from(x + anchor, anchor_inside, x + cell.vertex(v), tris, in)) {
       status[v] = in;
       break;
     }

@@ -29,6 +29,10 @@ struct SurfaceGenerators {
   // corner, only a point in the middle of a straight edge, which no cell keeps.
   std::vector<uint8_t> seam;
   explicit SurfaceGenerators(const Domain& d);
+  // A region of a multi-region solid (froth/domain.hpp's RegionSet): edges numbered as in
+  // `edges` (all regions' edges, sorted), so that every region names an input edge alike; a
+  // seam where both of this region's triangles at the edge lie on one facet.
+  SurfaceGenerators(const Domain& region, const std::vector<std::pair<int32_t, int32_t>>& edges);
   int32_t plane(int32_t f) const { return -(f + 1); }
   int32_t edge(int32_t e) const { return -(planes + 1 + e); }
   int32_t vertex(int32_t v) const { return -(planes + edges + 1 + v); }
@@ -72,14 +76,16 @@ class CellClipper {
 
   // HalfSpace: the surface near the cell is one facet plane, `facet`, and
   // V ∩ D is V cut by it: the caller cuts it as it cuts a convex domain's cells.
-  enum class Result { Inside, Clipped, HalfSpace };
+  // Outside: V ∩ D is empty (only when the anchor is outside D).
+  enum class Result { Inside, Clipped, HalfSpace, Outside };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
   // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
   // inside the domain: the seed itself, or a point just off the surface for a protection seed.
   // Inside: the cell does not meet the surface and is whole. Throws nothing; returns an error
-  // text in `error` (then the result is meaningless).
+  // text in `error` (then the result is meaningless). `anchor_inside` false: the anchor is a
+  // point of the cell outside D (a multi-region solid's cell seen from another region).
   Result clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half, const std::vector<Vec3>& seeds,
-              ClippedCell& out, int32_t& facet, std::string& error);
+              ClippedCell& out, int32_t& facet, std::string& error, bool anchor_inside = true);
 
  private:
   struct Scratch;

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "froth/domain.hpp"
+#include "input/regions.hpp"
 #include "common/surface_locator.hpp"
 #include "common/union_find.hpp"
 #include "features/features.hpp"
@@ -336,6 +337,24 @@ Domain domain_from_surface(const TriangleSurface& surface, const std::string& na
   return d;
 }
 
+namespace {
+
+TriangleSurface read_surface(const std::string& input) {
+  std::filesystem::path path(input);
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a surface file (STL, OFF, OBJ or PLY)", input));
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".stl") return read_stl(path);
+  if (ext == ".off" || ext == ".obj" || ext == ".ply") return read_polygon_file(path);
+  fail(ErrorKind::Usage,
+       fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
+                   input, ext));
+}
+
+}  // namespace
+
 Domain load_domain(const std::string& input, const DomainOptions& options) {
   check_feature_angle(options.feature_angle);
   if (input.rfind("box:", 0) == 0) {
@@ -343,20 +362,30 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
     find_features(d, options.feature_angle);
     return d;
   }
-  std::filesystem::path path(input);
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    fail(ErrorKind::Io, fmt::format("{}: is a directory, not a surface file (STL, OFF, OBJ or PLY)", input));
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  TriangleSurface surface;
-  if (ext == ".stl") surface = read_stl(path);
-  else if (ext == ".off" || ext == ".obj" || ext == ".ply") surface = read_polygon_file(path);
-  else
-    fail(ErrorKind::Usage,
-         fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
-                     input, ext));
-  return domain_from_surface(surface, path.filename().string(), options);
+  const TriangleSurface surface = read_surface(input);
+  const std::string name = std::filesystem::path(input).filename().string();
+  if (has_shared_triangles(surface)) return regions_from_shared_triangles(surface, name, options);
+  return domain_from_surface(surface, name, options);
+}
+
+Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions& options) {
+  if (inputs.size() == 1) return load_domain(inputs[0], options);
+  check_feature_angle(options.feature_angle);
+  std::vector<TriangleSurface> surfaces;
+  std::vector<std::string> names;
+  for (const std::string& input : inputs) {
+    if (input.rfind("box:", 0) == 0) {
+      const Domain box = parse_box_spec(input);
+      surfaces.push_back(box.surface);
+      names.push_back(fmt::format("box_{}", names.size()));
+    } else {
+      surfaces.push_back(read_surface(input));
+      names.push_back(std::filesystem::path(input).stem().string());
+    }
+    for (size_t k = 0; k + 1 < names.size(); ++k)
+      if (names[k] == names.back()) names.back() += fmt::format("_{}", names.size() - 1);
+  }
+  return domain_from_regions(surfaces, names, options);
 }
 
 }  // namespace froth

@@ -62,6 +62,8 @@ class Stopwatch {
 // `share`: the part of the mesh this process holds (a partitioned run's rank: 1 / ranks).
 void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run, double share = 1) {
   check_mesh_options(domain, opt, share);
+  if (domain.regions && opt.convex)
+    fail(ErrorKind::Usage, "--convex is not available for a multi-region solid yet");
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   run.domain = domain.description;
   run.r = opt.r;
@@ -179,7 +181,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   // Where cells may not hold their seed in their kernel (non-convex domains), the point to fan
   // each from.
   if (!domain.convex) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
-  assign_border_patches(domain, mesh);
+  assign_border_patches(domain.regions ? domain.regions->boundary : domain, mesh);
   MeshCheck check = check_mesh(mesh);
   run.stages.push_back({"validation", watch.lap(), peak_rss_bytes()});
   if (!check.ok())
@@ -309,6 +311,8 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PartitionReport& part = partition ? *partition : local_part;
   if (opt.convex)
     fail(ErrorKind::Usage, "--convex is not available with --partition: a cut carries into cells on other ranks");
+  if (domain.regions)
+    fail(ErrorKind::Usage, "--partition is not available for a multi-region solid yet: mesh it serially");
   start_run(domain, opt, run, 1.0 / comm.size());
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);

@@ -1,0 +1,77 @@
+// A seed's cell in a multi-region solid (froth/domain.hpp's RegionSet): its Voronoi cell V cut
+// to each region it meets, V ∩ R for every region R, as one cell whose faces know their region.
+// Each part is clipped as a non-convex domain's cell is (src/clip), with every region naming the
+// facets, input edges and vertices alike, so the two parts of a cell that an interface crosses
+// share the interface's vertices, and so do the neighbours' parts. Assembly then splits the cell
+// into one cell per region and piece (assembly/split_pieces.hpp).
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "clip/clip_cell.hpp"
+#include "common/triangle_grid.hpp"
+#include "froth/domain.hpp"
+#include "voronoi/convex_cell.hpp"
+
+namespace froth {
+
+// The parts of one cell, with ClippedCell's accessors (for assembly) and each face's region.
+class RegionCell {
+ public:
+  size_t vertex_count() const { return points_.size(); }
+  size_t face_count() const { return face_gen_.size(); }
+  Vec3 vertex(size_t v) const { return points_[v]; }
+  int32_t face_generator(size_t f) const { return face_gen_[f]; }
+  const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
+  size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
+  uint8_t face_loop(size_t f) const { return face_loop_[f]; }
+  int32_t face_region(size_t f) const { return face_region_[f]; }
+  const std::vector<ConvexCell::Names>& names() const { return names_; }
+  // Regions met, and pieces over all of them: a cell of one region in one piece needs no split.
+  int regions() const { return regions_; }
+  int pieces() const { return pieces_; }
+
+ private:
+  friend class RegionClipper;
+  std::vector<Vec3> points_;
+  std::vector<ConvexCell::Names> names_;
+  std::vector<int32_t> face_gen_, face_region_;
+  std::vector<uint32_t> face_start_{0};
+  std::vector<uint16_t> face_vert_;
+  std::vector<uint8_t> face_loop_;
+  int regions_ = 0, pieces_ = 0;
+};
+
+// The regions' generators and triangle grids, shared by all threads.
+struct RegionSurfaces {
+  RegionSurfaces(const RegionSet& regions, double r);
+  const RegionSet& set;
+  std::vector<SurfaceGenerators> generators;
+  std::vector<TriangleGrid> grids;
+};
+
+class RegionClipper {
+ public:
+  // One per thread.
+  explicit RegionClipper(const RegionSurfaces& surfaces);
+  // Cuts `cell` (relative to seed x, bisector faces only) to every region it meets. `own`: the
+  // region holding the anchor (x + anchor, strictly inside it). False with `error` set on failure.
+  bool clip(int32_t seed, Vec3 x, Vec3 anchor, int32_t own, const ConvexCell& cell, double half,
+            const std::vector<Vec3>& seeds, double eps, RegionCell& out, std::string& error);
+
+ private:
+  template <class Cell>
+  void add_part(const Cell& part, const std::vector<ConvexCell::Names>& names, int32_t region, int pieces,
+                RegionCell& out);
+  const RegionSurfaces& s_;
+  std::vector<std::unique_ptr<CellClipper>> clippers_;
+  ClippedCell clipped_;
+  ConvexCell halfspace_;
+  std::vector<ConvexCell::Names> names_;
+  std::vector<std::pair<uint64_t, int32_t>> index_;  // (hash of a name, local vertex)
+  std::vector<int32_t> local_;
+};
+
+}  // namespace froth
