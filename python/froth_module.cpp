@@ -149,6 +149,7 @@ py::dict cell_data(const py::object& self) {
   if (pm.piece.size() == n) d["piece"] = view_of<uint32_t>(self, pm.piece);
   else d["piece"] = py::module_::import("numpy").attr("zeros")(n, "uint32");
   if (pm.parent.size() == n) d["parent"] = view_of<uint32_t>(self, pm.parent);
+  if (pm.region.size() == n) d["region"] = view_of<int32_t>(self, pm.region);
   if (pm.centers.size() == n) d["center"] = vec3_view(self, pm.centers.data(), n);
   else d["center"] = d["seed"];
   if (pm.radii.size() == n) d["radius"] = view_of<double>(self, pm.radii);
@@ -201,6 +202,13 @@ PYBIND11_MODULE(_froth, m) {
       },
       py::arg("input"), py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
   m.def(
+      "load_regions",
+      [](const std::vector<std::string>& inputs, double feature_angle, bool repair) {
+        py::gil_scoped_release unlocked;
+        return froth::load_regions(inputs, {feature_angle, repair});
+      },
+      py::arg("inputs"), py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
+  m.def(
       "from_surface",
       [](const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
          const py::array_t<int64_t, py::array::c_style | py::array::forcecast>& triangles, const std::string& name,
@@ -233,6 +241,7 @@ PYBIND11_MODULE(_froth, m) {
                                return out;
                              })
       .def_property_readonly("patch_names", [](const Mesh& m) { return m.mesh.patch_names; })
+      .def_property_readonly("region_names", [](const Mesh& m) { return m.mesh.region_names; })
       .def_property_readonly("cell_data", &cell_data)
       .def_property_readonly("r", [](const Mesh& m) { return m.run.r; })
       .def_property_readonly("seed", [](const Mesh& m) { return m.run.seed; })

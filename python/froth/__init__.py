@@ -16,11 +16,11 @@ import json
 import os
 
 from ._froth import (Domain, Error, InternalError, InvalidInputError, IoError, Mesh, UsageError, from_surface, load,
-                     member_seed, read, version)
+                     load_regions, member_seed, read, version)
 from . import _froth
 
 __all__ = ["Domain", "Mesh", "Error", "UsageError", "InvalidInputError", "IoError", "InternalError", "box", "load",
-           "from_surface", "mesh", "ensemble", "read", "member_seed", "version"]
+           "load_regions", "from_surface", "mesh", "ensemble", "read", "member_seed", "version"]
 __version__ = version
 
 
@@ -36,8 +36,12 @@ def _domain(surface, feature_angle, repair):
         return load(os.fspath(surface), feature_angle=feature_angle, repair=repair)
     if isinstance(surface, tuple) and len(surface) == 2:
         return from_surface(surface[0], surface[1], feature_angle=feature_angle, repair=repair)
-    raise UsageError("froth.mesh takes a path, a box spec 'box:X0,Y0,Z0,X1,Y1,Z1', a froth.Domain or a tuple "
-                     "(vertices (n, 3), triangles (m, 3)); got " + type(surface).__name__)
+    if isinstance(surface, list) and all(isinstance(s, (str, os.PathLike)) for s in surface):
+        # Several solids, one region each (a multi-region mesh, as `froth mesh a.stl b.stl`).
+        return load_regions([os.fspath(s) for s in surface], feature_angle=feature_angle, repair=repair)
+    raise UsageError("froth.mesh takes a path, a list of paths (one region each), a box spec "
+                     "'box:X0,Y0,Z0,X1,Y1,Z1', a froth.Domain or a tuple (vertices (n, 3), triangles (m, 3)); got " +
+                     type(surface).__name__)
 
 
 def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, threads=0, grade=False, min_r=None,

@@ -291,7 +291,14 @@ class RegionBuilder {
     }
     std::string name;
     for (const std::string& n : body_names_) name += (name.empty() ? "" : " + ") + n;
-    Domain u = domain_from_surface(s, "the union of " + name, options_);
+    Domain u;
+    try {
+      u = domain_from_surface(s, "the union of " + name, options_);
+    } catch (const Error& e) {
+      fail(e.kind(), fmt::format("{} (where solids touch, both must have the same triangles there: froth does not yet "
+                                 "make differently triangulated faces conform)",
+                                 e.what()));
+    }
     set.boundary = u;
     set.boundary.planes = set.facet_planes;
     for (size_t f = 0; f < set.facet_sides.size(); ++f)
@@ -316,7 +323,14 @@ class RegionBuilder {
     if (record_facets) region_facets_.push_back(std::move(facets));
     DomainOptions o = options_;
     o.repair = false;
-    return domain_from_surface(s, file_.empty() ? body_names_[size_t(k)] : fmt::format("{}, region {}", file_, body_names_[size_t(k)]), o);
+    // Each input alone was valid (or a single file's solids are found here): a defect now is
+    // where solids meet wrongly.
+    try {
+      return domain_from_surface(
+          s, file_.empty() ? "region " + body_names_[size_t(k)] : fmt::format("{}, region {}", file_, body_names_[size_t(k)]), o);
+    } catch (const Error& e) {
+      fail(e.kind(), fmt::format("{} (the regions overlap, cross or touch other than along shared triangles)", e.what()));
+    }
   }
 
   // Triangle of side s wound so that its normal points out of the part the side faces.

@@ -80,7 +80,7 @@ std::vector<double> volumes_of(const PolyMesh& m) {
 void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
   const size_t n = m.cell_count();
   std::vector<double> seed(3 * n), centroid(3 * n), volume = volumes_of(m);
-  std::vector<int64_t> kind(n), region(n, 0), piece(n), parent(n);
+  std::vector<int64_t> kind(n), region(n), piece(n), parent(n);
   // Each cell's interior faces (toward a higher cell) and border faces counted, then every face
   // filled in at its place, cells in parallel.
   std::vector<int64_t> interior_at(n + 1, 0), border_at(n + 1, 0);
@@ -105,6 +105,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
     put(centroid, c, cell_centroid(m, c));
     kind[c] = int64_t(m.kinds[c]);
     piece[c] = m.piece_of(c);
+    region[c] = m.region_of(c);
     parent[c] = m.parent_of(c);
     size_t i = size_t(interior_at[c]), b = size_t(border_at[c]);
     for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {

@@ -354,6 +354,19 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     if (std::any_of(p.begin(), p.end(), [](int64_t v) { return v != 0; }))
       for (int64_t v : p) m.piece.push_back(uint32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
   }
+  // A multi-region mesh's regions and their names.
+  if (auto region = rd.array("CellData", "region", false)) {
+    const std::vector<int64_t> p = rd.values<int64_t>(region);
+    if (p.size() != nc) bad(path, "the region array does not have one value per cell");
+    for (int64_t v : p) m.region.push_back(int32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
+    if (auto names = rd.field("region_names")) {
+      std::string name;
+      for (int64_t ch : rd.values<int64_t>(names)) {
+        if (ch != 0) name += char(ch);
+        else m.region_names.push_back(name), name.clear();
+      }
+    }
+  }
   // froth's r and graded radii, so that the bounds are judged as in the run (quality.hpp).
   if (auto r = rd.field("r")) {
     const std::vector<double> v = rd.values<double>(r);

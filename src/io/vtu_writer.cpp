@@ -158,6 +158,20 @@ std::string grading_field_data(const RunReport& run) {
                      floor, run.grading);
 }
 
+// A multi-region mesh's region names, cell data `region` indexing them: a VTK string array
+// (ascii: each name's bytes, then 0), as vtkStringArray reads it.
+std::string region_field_data(const PolyMesh& m) {
+  if (m.region_names.empty()) return "";
+  std::string bytes;
+  for (const std::string& name : m.region_names) {
+    for (unsigned char ch : name) bytes += fmt::format("{} ", int(ch));
+    bytes += "0 ";
+  }
+  bytes.pop_back();
+  return fmt::format("<DataArray type=\"String\" Name=\"region_names\" NumberOfTuples=\"{}\" format=\"ascii\">{}</DataArray>\n",
+                     m.region_names.size(), bytes);
+}
+
 std::string version_numbers(std::string v) {
   std::replace(v.begin(), v.end(), '.', ' ');
   return v;
@@ -266,6 +280,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       << fmt::format("<DataArray type=\"Int32\" Name=\"version\" NumberOfTuples=\"3\" format=\"ascii\">{}</DataArray>\n",
                      version_numbers(FROTH_VERSION))
       << grading_field_data(run)
+      << region_field_data(m)
       << "</FieldData>\n"
       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.points.size(), n)
       << "<Points>\n" << raw_array(w, m.points, "Float64", "Points", 3) << "</Points>\n<Cells>\n";
@@ -290,6 +305,14 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.piece_of(c)));
       },
       "Int32", "piece");
+  if (!m.region.empty())
+    xml << data_array(
+        w, n * 4,
+        [&](std::ostream& out) {
+          ValueWriter<int32_t> vw(out);
+          for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.region[c]));
+        },
+        "Int32", "region");
   if (!m.parent.empty())
     xml << data_array(
         w, n * 4,

@@ -174,7 +174,10 @@ for args, code, words in [
     ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "inconsistent orientation"),
     ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "--repair"),
     ([os.path.join(MODELS, "rook.stl"), "-r", "1"], 3, "shared by 4 triangles"),
-    ([os.path.join(MODELS, "joined_tetrahedra.obj"), "-r", "0.1"], 3, "not manifold"),
+    # Multi-region input: solids that overlap, or touch with different triangles on each side.
+    (["box:0,0,0,1,1,1", "box:0.5,0.2,0.2,1.5,0.8,0.8", "-r", "0.1"], 3, "regions overlap, cross"),
+    (["box:0,0,0,1,1,1", "box:0,0,0,1,1,1", "-r", "0.1"], 3, "listed twice the same way"),
+    (["box:0,0,0,1,1,1", "box:1,0,0,2,1,1.5", "-r", "0.1"], 3, "same triangles there"),
     # The two broken kinds of real parts (tests/data/README.md): a non-manifold vertex, an open
     # surface with crossing triangles, folded faces.
     ([os.path.join(DATA, "touching_tetrahedra.off"), "-r", "0.3"], 3, "not manifold at vertex 0"),

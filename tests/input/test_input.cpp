@@ -1,4 +1,5 @@
 // Input: STL reading, convexity validation and the errors bad input gets.
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -329,7 +330,12 @@ TEST(Input, CubeAsOffObjAndPly) {
 
 TEST(Input, SharedModelsInOtherFormatsGetTheirOwnMessages) {
   auto message = [](const char* model) { return error_text_of([&] { load_domain(test::model(model)); }); };
-  EXPECT_NE(message("joined_tetrahedra.obj").find("not manifold"), std::string::npos);
+  // Two tetrahedra listing their shared face twice, opposite ways: two regions.
+  const Domain joined = load_domain(test::model("joined_tetrahedra.obj"));
+  ASSERT_TRUE(joined.regions);
+  EXPECT_EQ(joined.regions->size(), 2u);
+  EXPECT_EQ(joined.regions->interfaces.size(), 1u);
+  EXPECT_NEAR(joined.regions->interfaces[0].area, 1.5 * 0.8660254, 1e-12);  // the file's base triangle
   EXPECT_NE(message("rook.stl").find("not manifold"), std::string::npos);
   EXPECT_FALSE(load_domain(test::model("step.off")).convex);
 }

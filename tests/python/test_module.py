@@ -145,7 +145,7 @@ def cli_message(*args):
 @pytest.mark.parametrize("call, args, error", [
     (lambda: froth.mesh(BOX, r=-1), [BOX, "-r", "-1"], froth.UsageError),
     (lambda: froth.mesh(BOX, r=0.1, weld=0.5), [BOX, "-r", "0.1", "--weld", "0.5"], froth.UsageError),
-    (lambda: froth.mesh(str(MODELS / "joined_tetrahedra.obj"), r=0.1), [MODELS / "joined_tetrahedra.obj", "-r", "0.1"],
+    (lambda: froth.mesh([BOX, "box:0.5,0.2,0.2,1.5,0.8,0.8"], r=0.1), [BOX, "box:0.5,0.2,0.2,1.5,0.8,0.8", "-r", "0.1"],
      froth.InvalidInputError),
     (lambda: froth.mesh(str(MODELS / "rook.stl"), r=1), [MODELS / "rook.stl", "-r", "1"], froth.InvalidInputError),
     (lambda: froth.mesh("no/such/part.stl", r=1), ["no/such/part.stl", "-r", "1"], froth.IoError),
