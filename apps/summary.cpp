@@ -153,6 +153,12 @@ std::string mesh_summary(const froth::RunReport& run, const std::vector<std::str
                                    run.faces, run.points));
   out += line("volume", fmt::format("cells sum {:.12g}, domain {:.12g} (relative error {:.2e})", run.volume_sum,
                                     run.domain_volume, run.volume_relative_error()));
+  if (!run.regions.empty()) {
+    std::vector<std::string> parts;
+    for (const froth::RunReport::Region& r : run.regions) parts.push_back(fmt::format("{} {} cells", r.name, r.cells));
+    out += line("regions", fmt::format("{}; {} interface cells on {} interfaces", join(parts), run.interface_cells,
+                                       run.interfaces.size()));
+  }
   if (run.quality) out += line("quality", quality_text(run));
   out += line("time", time_text(run));
   if (v == Verbosity::Verbose) out += details(run);

@@ -39,7 +39,10 @@ struct UninitializedAllocator : std::allocator<T> {
 template <class T>
 using Buffer = std::vector<T, UninitializedAllocator<T>>;
 
-enum class CellKind : uint8_t { Interior = 0, Fringe = 1, Edge = 2, Vertex = 3 };
+// InterfaceFace and InterfaceEdge: a multi-region solid's cells of seeds on an interface facet, or on
+// an interface curve or corner (src/sampling/protect_interfaces.hpp).
+enum class CellKind : uint8_t { Interior = 0, Fringe = 1, Edge = 2, Vertex = 3, InterfaceFace = 4, InterfaceEdge = 5 };
+inline constexpr int kCellKinds = 6;
 
 // A face's generator: >= 0 is the seed on the other side (an interior face);
 // < 0 encodes domain plane p as -(p + 1) (a border face).
@@ -153,6 +156,9 @@ struct SamplingLevel {
 struct SamplingStats {
   size_t seeds = 0;              // all seeds, protection seeds included
   size_t edge_seeds = 0, vertex_seeds = 0;  // protection of reflex features (paper §2.2)
+  // A multi-region solid's interface seeds (sampling/protect_interfaces.hpp); sub-triangles of
+  // the interfaces that no disk covers at the finest level (0: maximal on the interfaces).
+  size_t interface_edge_seeds = 0, interface_face_seeds = 0, interface_uncovered = 0;
   size_t darts = 0;              // darts thrown in all rounds
   // Candidates decided in arrival order (a partitioned run counts the neighbours' it reads), and
   // the decisions looked up doing so: the work of the acceptance, which stays a small multiple
@@ -210,6 +216,20 @@ struct RunReport {
   } input;
   SamplingStats sampling;
   size_t cells = 0, interior_cells = 0, fringe_cells = 0, edge_cells = 0, vertex_cells = 0;
+  size_t interface_cells = 0;  // kinds InterfaceFace and InterfaceEdge (a multi-region solid's)
+  // A multi-region solid's regions (cells, their volume against the region's enclosed volume)
+  // and interfaces (their input area, and the area of the faces between them from each side).
+  struct Region {
+    std::string name;
+    size_t cells = 0;
+    double volume = 0, enclosed = 0;
+  };
+  std::vector<Region> regions;
+  struct Interface {
+    int32_t a = 0, b = 0;
+    double area = 0, from_a = 0, from_b = 0;
+  };
+  std::vector<Interface> interfaces;
   double border_area = 0;  // area of the border faces, to compare with the surface's
   // Cells not star-shaped from their seed (a face plane beyond it by over 1e-6 r), before
   // welding, and the worst distance / r; of those, cells not star-shaped from any point (their

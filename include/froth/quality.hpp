@@ -53,7 +53,7 @@ struct Summary {
 };
 
 struct QualityReport {
-  static constexpr int kKinds = 4;    // CellKind
+  static constexpr int kKinds = kCellKinds;  // CellKind
   static constexpr int kClasses = 3;  // DihedralClass
   std::array<uint64_t, kKinds> cells{};
   std::array<Summary, kKinds> aspect, outradius, inradius, min_edge, faces;

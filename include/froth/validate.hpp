@@ -25,6 +25,8 @@ double cell_volume(const PolyMesh& mesh, size_t c);
 
 // Total area of the border faces (Newell), which must equal the domain's surface area.
 double border_area(const PolyMesh& mesh);
+// The area of face f (a fan from its first vertex).
+double face_area(const PolyMesh& mesh, size_t f);
 
 // Star-shapedness from the seeds: a cell is star-shaped from its seed when the seed is on the
 // inner side of every face's plane (it is then in the cell's kernel, the intersection of those

@@ -104,7 +104,7 @@ bool RegionClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, int32_t own, const C
     const bool mine = int32_t(k) == own;
     int32_t facet = -1;
     const CellClipper::Result result =
-        clippers_[k]->clip(seed, x, mine ? anchor : Vec3{}, cell, half, seeds, clipped_, facet, error, mine);
+        clippers_[k]->clip(seed, x, anchor, cell, half, seeds, clipped_, facet, error, mine);
     if (!error.empty()) return false;
     switch (result) {
       case CellClipper::Result::Outside:

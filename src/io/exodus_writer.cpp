@@ -31,7 +31,7 @@ void write_exodus(const PolyMesh&, const RunReport&, const std::filesystem::path
 #else
 namespace {
 
-constexpr const char* kKindNames[] = {"interior", "fringe", "edge", "vertex"};
+constexpr const char* kKindNames[] = {"interior", "fringe", "edge", "vertex", "interface_face", "interface_edge"};
 
 void check(int status, const std::filesystem::path& path, const char* what) {
   if (status < 0) fail(ErrorKind::Io, fmt::format("{}: Exodus II could not write {} (error {})", path.string(), what, status));
@@ -116,12 +116,17 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       face_id[size_t(f)] = face_id[size_t(twin)];
     }
 
-  // Elements by kind; within a kind, in cell order.
+  // Elements by block, within a block in cell order: a block per cell kind, or per region for a
+  // multi-region mesh (a solver gives each its material).
+  const bool by_region = !m.region.empty();
+  const int nblocks = by_region ? int(m.region_names.size()) : kCellKinds;
+  auto block_of = [&](size_t c) { return by_region ? m.region[c] : int(m.kinds[c]); };
+  auto block_name = [&](int k) { return by_region ? m.region_names[size_t(k)].c_str() : kKindNames[k]; };
   std::vector<size_t> order;
-  std::vector<int64_t> per_kind(4, 0);
-  for (int k = 0; k < 4; ++k)
+  std::vector<int64_t> per_kind(size_t(nblocks), 0);
+  for (int k = 0; k < nblocks; ++k)
     for (size_t c = 0; c < n; ++c)
-      if (int(m.kinds[c]) == k) order.push_back(c), ++per_kind[size_t(k)];
+      if (block_of(c) == k) order.push_back(c), ++per_kind[size_t(k)];
   int blocks = 0;
   for (int64_t count : per_kind) blocks += count > 0;
   const size_t patches = std::max<size_t>(1, m.patch_names.size());
@@ -162,7 +167,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     // Everything is defined before any bulk data is written: netCDF's classic format rewrites
     // the whole file each time a definition follows data.
     std::vector<std::vector<int>> faces_of(4), element_faces(4);
-    for (size_t e = 0, first = 0; e < 4; first += size_t(per_kind[e]), ++e)
+    for (size_t e = 0, first = 0; e < size_t(nblocks); first += size_t(per_kind[e]), ++e)
       for (size_t k = first; k < first + size_t(per_kind[e]); ++k) {
         const size_t c = order[k];
         faces_of[e].push_back(int(m.cell_face_begin[c + 1] - m.cell_face_begin[c]));
@@ -171,7 +176,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       }
     check(ex_put_block(exo, EX_FACE_BLOCK, 1, "NSIDED", p.num_face, int64_t(face_nodes.size()), 0, 0, 0), path,
           "the face block");
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < nblocks; ++k)
       if (per_kind[size_t(k)] > 0)
         check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0,
                            int64_t(element_faces[size_t(k)].size()), 0),
@@ -187,8 +192,8 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
 
     const char* axes[] = {"x", "y", "z"};
     check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
-    for (int k = 0; k < 4; ++k)
-      if (per_kind[size_t(k)] > 0) check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, kKindNames[k]), path, "a block name");
+    for (int k = 0; k < nblocks; ++k)
+      if (per_kind[size_t(k)] > 0) check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, block_name(k)), path, "a block name");
     for (size_t q = 0; q < patches; ++q)
       check(ex_put_name(exo, EX_SIDE_SET, int64_t(q + 1), m.patch_names.empty() ? "walls" : m.patch_names[q].c_str()),
             path, "a side set's name");
@@ -200,7 +205,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     check(ex_put_coord(exo, x.data(), y.data(), z.data()), path, "the coordinates");
     check(ex_put_conn(exo, EX_FACE_BLOCK, 1, face_nodes.data(), nullptr, nullptr), path, "the faces");
     check(ex_put_entity_count_per_polyhedra(exo, EX_FACE_BLOCK, 1, face_nodes_count.data()), path, "the face sizes");
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < nblocks; ++k) {
       if (per_kind[size_t(k)] == 0) continue;
       check(ex_put_conn(exo, EX_ELEM_BLOCK, k + 1, nullptr, nullptr, element_faces[size_t(k)].data()), path,
             "an element block's faces");
@@ -213,7 +218,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     const double time = 0;
     check(ex_put_time(exo, 1, &time), path, "the time step");
     size_t first = 0;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < nblocks; ++k) {
       if (per_kind[size_t(k)] == 0) continue;
       std::vector<double> values(static_cast<size_t>(per_kind[size_t(k)]));
       for (size_t v = 0; v < vars.size(); ++v) {

@@ -18,7 +18,8 @@
 namespace froth {
 namespace {
 
-constexpr std::array<const char*, 4> kZoneNames = {"interior", "fringe", "edge", "vertex"};
+constexpr std::array<const char*, kCellKinds> kZoneNames = {"interior", "fringe", "edge", "vertex", "interface_face",
+                                                            "interface_edge"};
 
 // Text in memory, handed to the stream a megabyte at a time.
 class Chunked {
@@ -199,15 +200,20 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
   write_atomically(dir / "cellZones", [&](std::ostream& os) {
     Chunked out(os);
     header(out, "regIOobject", "cellZones");
-    out.put("{}\n(\n", kZoneNames.size());
-    for (size_t k = 0; k < kZoneNames.size(); ++k) {
+    // A multi-region mesh: a zone per region after them (chtMultiRegionFoam's splitMeshRegions
+    // -cellZones makes the regions' meshes from these).
+    out.put("{}\n(\n", kZoneNames.size() + m.region_names.size());
+    auto zone = [&](const std::string& name, auto&& in_zone) {
       size_t n = 0;
-      for (CellKind kind : m.kinds) n += size_t(kind) == k;
-      out.put("{}\n{{\n    type cellZone;\ncellLabels      List<label> {}\n(\n", kZoneNames[k], n);
+      for (size_t c = 0; c < m.cell_count(); ++c) n += in_zone(c);
+      out.put("{}\n{{\n    type cellZone;\ncellLabels      List<label> {}\n(\n", name, n);
       for (size_t c = 0; c < m.cell_count(); ++c)
-        if (size_t(m.kinds[c]) == k) out.put("{}\n", c);
+        if (in_zone(c)) out.put("{}\n", c);
       out.put(")\n;\n}}\n");
-    }
+    };
+    for (size_t k = 0; k < kZoneNames.size(); ++k) zone(kZoneNames[k], [&](size_t c) { return size_t(m.kinds[c]) == k; });
+    for (size_t k = 0; k < m.region_names.size(); ++k)
+      zone(m.region_names[k], [&](size_t c) { return m.region_of(c) == int32_t(k); });
     out.put(")\n");
   });
   // DIR = CASE/constant/polyMesh: a case without system/ gets a minimal one.

@@ -47,10 +47,22 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                {"fringe_cells", run.fringe_cells},
                {"edge_cells", run.edge_cells},
                {"vertex_cells", run.vertex_cells},
+               {"interface_cells", run.interface_cells},
                {"faces", run.faces},
                {"seeds_split_in_pieces", run.split_seeds},
                {"cells_added_by_pieces", run.extra_pieces},
                {"points", run.points}};
+  for (const RunReport::Region& r : run.regions)
+    j["regions"].push_back({{"name", r.name}, {"cells", r.cells}, {"volume", r.volume}, {"enclosed_volume", r.enclosed}});
+  for (const RunReport::Interface& i : run.interfaces)
+    j["interfaces"].push_back({{"regions", {run.regions[size_t(i.a)].name, run.regions[size_t(i.b)].name}},
+                               {"area", i.area},
+                               {"area_from_first", i.from_a},
+                               {"area_from_second", i.from_b}});
+  if (!run.regions.empty())
+    j["sampling"].update({{"interface_edge_seeds", s.interface_edge_seeds},
+                          {"interface_face_seeds", s.interface_face_seeds},
+                          {"interface_uncovered_subtriangles", s.interface_uncovered}});
   if (run.convex_split.requested) {
     const RunReport::ConvexSplit& cs = run.convex_split;
     j["convex"] = {{"cells_split", cs.cells_split},

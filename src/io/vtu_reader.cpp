@@ -398,7 +398,7 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   if (auto kind = rd.array("CellData", "kind", false)) {
     const std::vector<int64_t> k = rd.values<int64_t>(kind);
     if (k.size() != nc) bad(path, "the kind array does not have one value per cell");
-    for (size_t c = 0; c < nc; ++c) m.kinds[c] = CellKind(std::clamp<int64_t>(k[c], 0, 3));
+    for (size_t c = 0; c < nc; ++c) m.kinds[c] = CellKind(std::clamp<int64_t>(k[c], 0, kCellKinds - 1));
   } else {
     for (size_t c = 0; c < nc; ++c)
       for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)

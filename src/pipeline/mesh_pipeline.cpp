@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <fmt/format.h>
@@ -172,6 +173,34 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
   return welded;
 }
 
+// A multi-region mesh's figures per region and interface (sums in cell order: the same for any
+// thread count).
+void measure_regions(const RegionSet& set, const PolyMesh& mesh, RunReport& run) {
+  run.regions.assign(set.size(), {});
+  for (size_t k = 0; k < set.size(); ++k) run.regions[k].name = set.names[k], run.regions[k].enclosed = set.solids[k].volume;
+  for (size_t c = 0; c < mesh.cell_count(); ++c) {
+    RunReport::Region& r = run.regions[size_t(mesh.region_of(c))];
+    ++r.cells, r.volume += mesh.volumes[c];
+  }
+  run.interfaces.clear();
+  std::map<std::pair<int32_t, int32_t>, size_t> index;
+  for (const RegionSet::Interface& i : set.interfaces) {
+    index[{i.a, i.b}] = run.interfaces.size();
+    run.interfaces.push_back({i.a, i.b, i.area, 0, 0});
+  }
+  for (size_t c = 0; c < mesh.cell_count(); ++c)
+    for (int64_t f = mesh.cell_face_begin[c]; f < mesh.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = mesh.face_generator[f];
+      if (g < 0 || is_other_piece_generator(g)) continue;
+      const int32_t a = mesh.region_of(c), b = mesh.region_of(size_t(g));
+      if (a == b) continue;
+      const auto it = index.find(std::minmax(a, b));
+      if (it == index.end()) continue;  // (regions that touch only where no interface was found: checked by tests)
+      RunReport::Interface& i = run.interfaces[it->second];
+      (a == i.a ? i.from_a : i.from_b) += face_area(mesh, f);
+    }
+}
+
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).
 void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
   if (opt.progress) opt.progress("validation", 0);
@@ -222,7 +251,8 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   run.cells = mesh.cell_count();
   run.faces = mesh.face_count();
   run.points = mesh.points.size();
-  size_t* count_of[] = {&run.interior_cells, &run.fringe_cells, &run.edge_cells, &run.vertex_cells};
+  size_t* count_of[] = {&run.interior_cells, &run.fringe_cells,    &run.edge_cells,
+                        &run.vertex_cells,   &run.interface_cells, &run.interface_cells};
   for (size_t* c : count_of) *c = 0;
   for (CellKind k : mesh.kinds) ++*count_of[size_t(k)];
   run.split_seeds = run.extra_pieces = 0;
@@ -231,6 +261,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
     run.split_seeds += mesh.piece_of(c) == 1;
   }
   run.border_area = border_area(mesh);
+  if (domain.regions) measure_regions(*domain.regions, mesh, run);
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;

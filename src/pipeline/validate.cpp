@@ -34,17 +34,19 @@ double cell_volume(const PolyMesh& m, size_t c) {
   return v6 / 6;
 }
 
+double face_area(const PolyMesh& m, size_t f) {
+  const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+  const Vec3 o = m.points[m.face_vertices[b]];
+  Vec3 n{};
+  for (int64_t k = b + 1; k + 1 < e; ++k)
+    n = n + cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1]] - o);
+  return norm(n) / 2;
+}
+
 double border_area(const PolyMesh& m) {
   double area = 0;
-  for (size_t f = 0; f < m.face_count(); ++f) {
-    if (!is_border_generator(m.face_generator[f])) continue;
-    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-    const Vec3 o = m.points[m.face_vertices[b]];
-    Vec3 n{};
-    for (int64_t k = b + 1; k + 1 < e; ++k)
-      n = n + cross(m.points[m.face_vertices[k]] - o, m.points[m.face_vertices[k + 1]] - o);
-    area += norm(n) / 2;
-  }
+  for (size_t f = 0; f < m.face_count(); ++f)
+    if (is_border_generator(m.face_generator[f])) area += face_area(m, f);
   return area;
 }
 

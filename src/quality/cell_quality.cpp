@@ -322,7 +322,7 @@ QualityReport assess_quality(const PolyMesh& m, std::vector<CellQuality>* per_ce
 }
 
 std::string quality_json_text(const QualityReport& q) {
-  static const char* kinds[] = {"interior", "fringe", "edge", "vertex"};
+  static const char* kinds[] = {"interior", "fringe", "edge", "vertex", "interface_face", "interface_edge"};
   static const char* classes[] = {"interior_interior", "border_interior", "border_border"};
   // Over the finite values (null if there are none); "not_finite" counts the others.
   auto summary = [](const Summary& s) {

@@ -1,0 +1,269 @@
+#include "sampling/protect_interfaces.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "common/random.hpp"
+#include "froth/error.hpp"
+
+namespace froth {
+namespace {
+
+Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
+
+// Seeds by cube of side `side`, for "is any seed within d (<= side) of p".
+class SeedHash {
+ public:
+  explicit SeedHash(double side) : side_(side) {}
+  void add(Vec3 p) { cells_[key(cell(p))].push_back(p); }
+  bool any_within(Vec3 p, double d) const {
+    const auto c = cell(p);
+    for (int64_t dz = -1; dz <= 1; ++dz)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dx = -1; dx <= 1; ++dx) {
+          const auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (it == cells_.end()) continue;
+          for (Vec3 q : it->second)
+            if (norm2(q - p) < d * d) return true;
+        }
+    return false;
+  }
+  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are)?
+  bool covers(const std::array<Vec3, 3>& t, double d) const {
+    const Vec3 c = (1.0 / 3) * (t[0] + t[1] + t[2]);
+    const auto k = cell(c);
+    for (int64_t dz = -1; dz <= 1; ++dz)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dx = -1; dx <= 1; ++dx) {
+          const auto it = cells_.find(key({k[0] + dx, k[1] + dy, k[2] + dz}));
+          if (it == cells_.end()) continue;
+          for (Vec3 q : it->second)
+            if (norm2(t[0] - q) <= d * d && norm2(t[1] - q) <= d * d && norm2(t[2] - q) <= d * d) return true;
+        }
+    return false;
+  }
+
+ private:
+  std::array<int64_t, 3> cell(Vec3 p) const {
+    return {int64_t(std::floor(p.x / side_)), int64_t(std::floor(p.y / side_)), int64_t(std::floor(p.z / side_))};
+  }
+  static uint64_t key(std::array<int64_t, 3> c) {
+    return (uint64_t(c[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full) ^
+           (uint64_t(c[2]) * 0x165667B19E3779F9ull);
+  }
+  double side_;
+  std::unordered_map<uint64_t, std::vector<Vec3>> cells_;
+};
+
+struct Segment {
+  Vec3 a, dir;
+  double length;
+  Vec3 inward;  // into a region, off the interface
+  std::vector<std::pair<double, double>> uncovered;
+};
+
+void cover(Segment& s, Vec3 p, double radius) {
+  const Vec3 ap = p - s.a;
+  const double m = dot(s.dir, ap), disc = m * m - norm2(ap) + radius * radius;
+  if (disc <= 0) return;
+  const double lo = m - std::sqrt(disc), hi = m + std::sqrt(disc);
+  std::vector<std::pair<double, double>> kept;
+  for (auto [u, v] : s.uncovered) {
+    if (v <= lo || u >= hi) {
+      kept.push_back({u, v});
+      continue;
+    }
+    if (u < lo) kept.push_back({u, lo});
+    if (v > hi) kept.push_back({hi, v});
+  }
+  s.uncovered.swap(kept);
+}
+
+// A direction from p into some region (p just off it in that direction is strictly inside one).
+Vec3 into_a_region(const RegionSet& set, Vec3 p, const std::vector<Vec3>& candidates, double step) {
+  for (Vec3 c : candidates)
+    for (const Domain& d : set.solids)
+      if (d.contains(p + step * c)) return c;
+  return {};
+}
+
+}  // namespace
+
+ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed, const std::vector<Vec3>& prior,
+                                   double feature_angle, InterfaceProtectionStats* stats) {
+  ProtectionSeeds out;
+  const double rc = r / 2, rf = r / std::sqrt(2.0);
+  const CounterRng rng(seed, RandomStream::Interfaces);
+  // The interface triangles, once each (from the region behind their facet's normal), with the
+  // facet they are on; and their edges.
+  struct Tri {
+    std::array<Vec3, 3> p;
+    int32_t facet;
+  };
+  std::vector<Tri> tris;
+  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> facets_at_edge;  // all facets of all regions
+  const double cos_feature = std::cos(feature_angle * M_PI / 180);
+  for (size_t k = 0; k < set.size(); ++k) {
+    const Domain& d = set.solids[k];
+    for (size_t t = 0; t < d.surface.triangles.size(); ++t) {
+      const auto& v = d.surface.triangles[t];
+      const int32_t f = d.triangle_plane[t];
+      for (int e = 0; e < 3; ++e) {
+        const int32_t a = v[e], b = v[(e + 1) % 3];
+        facets_at_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
+      }
+      if (set.is_interface(f) && set.facet_sides[size_t(f)][0] == int32_t(k))
+        tris.push_back({{d.surface.vertices[v[0]], d.surface.vertices[v[1]], d.surface.vertices[v[2]]}, f});
+    }
+  }
+  const std::vector<Vec3>& V = set.solids.empty() ? prior : set.solids[0].surface.vertices;
+  // Interface curves: edges of an interface where it meets another interface or the outer
+  // boundary (the facets around the edge are not all of one region pair), or bends within one
+  // interface by more than the feature angle.
+  std::vector<Segment> segments;
+  std::map<int32_t, int> curve_degree;
+  for (auto& [edge, facets] : facets_at_edge) {
+    std::sort(facets.begin(), facets.end());
+    facets.erase(std::unique(facets.begin(), facets.end()), facets.end());
+    bool any_interface = false, curve = false;
+    for (int32_t f : facets) any_interface |= set.is_interface(f);
+    if (!any_interface || facets.size() < 2) continue;
+    auto pair_of = [&](int32_t f) {
+      auto s = set.facet_sides[size_t(f)];
+      return std::minmax(s[0], s[1]);
+    };
+    for (int32_t f : facets) curve |= pair_of(f) != pair_of(facets[0]);
+    if (!curve && facets.size() == 2 &&
+        std::abs(dot(set.facet_planes[size_t(facets[0])].normal, set.facet_planes[size_t(facets[1])].normal)) < cos_feature)
+      curve = true;
+    if (!curve) continue;
+    const Vec3 a = V[edge.first], b = V[edge.second];
+    const double len = norm(b - a);
+    // Off the edge: along a facet's side into the region behind it, tried with exact tests.
+    std::vector<Vec3> candidates;
+    const Vec3 dir = (1 / len) * (b - a);
+    for (int32_t f : facets) {
+      const Vec3 n = set.facet_planes[size_t(f)].normal;
+      for (double s : {-1.0, 1.0}) {
+        const Vec3 along = unit(cross(n, dir));
+        candidates.push_back(unit(along + s * 0.5 * n)), candidates.push_back(unit(-1.0 * along + s * 0.5 * n));
+      }
+    }
+    const Vec3 in = into_a_region(set, 0.5 * (a + b), candidates, 1e-6 * r);
+    segments.push_back({a, dir, len, in, {{0.0, len}}});
+    ++curve_degree[edge.first], ++curve_degree[edge.second];
+  }
+  SeedHash hash(r);
+  for (Vec3 p : prior) hash.add(p);
+  auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
+    out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
+    hash.add(p);
+    for (Segment& s : segments) cover(s, p, rc);
+  };
+  for (Vec3 p : prior)
+    for (Segment& s : segments) cover(s, p, rc);
+  // Corners: ends of curves and vertices where more than two curve edges meet, a seed each just
+  // off the vertex inside a region (ties between mirror-symmetric corners stay undecidable
+  // otherwise, as for reflex corners).
+  for (const auto& [v, degree] : curve_degree) {
+    if (degree == 2) continue;
+    std::vector<Vec3> candidates;
+    for (int k = 0; k < 256; ++k) {
+      const double z = 1 - (2 * k + 1) / 256.0, rho = std::sqrt(1 - z * z), phi = k * 2.399963229728653;
+      candidates.push_back({rho * std::cos(phi), rho * std::sin(phi), z});
+    }
+    const Vec3 in = into_a_region(set, V[v], candidates, 1e-7 * r);
+    if (norm2(in) == 0)
+      fail(ErrorKind::InvalidInput, fmt::format("found no direction into a region at the interface corner ({}, {}, {})",
+                                                V[v].x, V[v].y, V[v].z));
+    add(V[v] + 1e-7 * r * in, CellKind::InterfaceEdge, Vec3{});
+  }
+  // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp).
+  const double crumb = 1e-12 * std::max(r, set.boundary.bounds.diagonal());
+  for (uint64_t dart = 0;; ++dart) {
+    double total = 0;
+    for (Segment& s : segments) {
+      std::erase_if(s.uncovered, [&](const auto& iv) { return iv.second - iv.first <= crumb; });
+      for (auto [u, v] : s.uncovered) total += v - u;
+    }
+    if (total <= 0) break;
+    double x = CounterRng::unit(rng.words(dart, 0, 0, 1)[0]) * total;
+    Segment* hit = nullptr;
+    double t = 0;
+    for (Segment& s : segments) {
+      for (auto [u, v] : s.uncovered) {
+        if (x <= v - u) {
+          hit = &s, t = std::min(u + x, v);
+          break;
+        }
+        x -= v - u;
+      }
+      if (hit) break;
+    }
+    if (!hit) break;
+    add(hit->a + t * hit->dir, CellKind::InterfaceEdge, hit->inward);
+  }
+  if (stats) stats->edge_seeds = out.points.size();
+  // Faces: maximal Poisson-disk sampling on the interface triangles with disks of r/sqrt(2)
+  // (Ebeida et al. 2012 in 2D): darts uniform by area over the sub-triangles not yet inside one
+  // disk, each kept if no seed is within r/sqrt(2); then the sub-triangles left are split in
+  // four and the darts go on, until every sub-triangle is covered.
+  struct Sub {
+    std::array<Vec3, 3> p;
+    int32_t facet;
+  };
+  std::vector<Sub> active;
+  auto longest = [](const std::array<Vec3, 3>& p) {
+    return std::max({norm(p[1] - p[0]), norm(p[2] - p[1]), norm(p[0] - p[2])});
+  };
+  auto split4 = [](const Sub& s, std::vector<Sub>& into) {
+    const Vec3 a = s.p[0], b = s.p[1], c = s.p[2];
+    const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+    into.push_back({{a, ab, ca}, s.facet}), into.push_back({{ab, b, bc}, s.facet});
+    into.push_back({{ca, bc, c}, s.facet}), into.push_back({{ab, bc, ca}, s.facet});
+  };
+  for (const Tri& t : tris) {
+    std::vector<Sub> work{{t.p, t.facet}};
+    while (!work.empty()) {
+      Sub s = work.back();
+      work.pop_back();
+      if (longest(s.p) > 0.5 * rf) split4(s, work);
+      else active.push_back(s);
+    }
+  }
+  size_t faces = 0;
+  for (int level = 0; level < 24 && !active.empty(); ++level) {
+    std::erase_if(active, [&](const Sub& s) { return hash.covers(s.p, rf); });
+    if (active.empty()) break;
+    std::vector<double> cumulative(active.size());
+    double total = 0;
+    for (size_t k = 0; k < active.size(); ++k)
+      total += norm(cross(active[k].p[1] - active[k].p[0], active[k].p[2] - active[k].p[0])), cumulative[k] = total;
+    const size_t darts = 2 * active.size();
+    for (size_t dart = 0; dart < darts; ++dart) {
+      const auto w = rng.words(dart, uint64_t(level) + 1, 1, 0);
+      const double x = CounterRng::unit(w[0]) * total;
+      const size_t k = std::min(size_t(std::lower_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin()),
+                                active.size() - 1);
+      double u = CounterRng::unit(w[1]), v = CounterRng::unit(w[2]);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      const Sub& s = active[k];
+      const Vec3 p = s.p[0] + u * (s.p[1] - s.p[0]) + v * (s.p[2] - s.p[0]);
+      if (hash.any_within(p, rf)) continue;
+      add(p, CellKind::InterfaceFace, -1.0 * set.facet_planes[size_t(s.facet)].normal);
+      ++faces;
+    }
+    std::erase_if(active, [&](const Sub& s) { return hash.covers(s.p, rf); });
+    std::vector<Sub> finer;
+    for (const Sub& s : active) split4(s, finer);
+    active.swap(finer);
+  }
+  if (stats) stats->face_seeds = faces, stats->uncovered = active.size();
+  return out;
+}
+
+}  // namespace froth
