@@ -28,10 +28,11 @@ struct WeldStats {
 
 // The default tolerance: 1e-4 of the cells' size, which is r, or the domain's diagonal where r
 // is larger (one cell, or a few, over the whole part: a tolerance from r would then weld away
-// the part's own details). 0 for a run that splits cells convex (MeshOptions::convex), whose
-// faces must stay planar.
-inline double default_weld_tolerance(double r, double domain_diagonal, bool convex = false) {
-  return convex ? 0 : 1e-4 * std::min(r, domain_diagonal);
+// the part's own details). 0 (`unwelded`) for a run that splits cells convex
+// (MeshOptions::convex), whose faces must stay planar, and for a multi-region solid, whose
+// interface vertices must stay on their interface facets.
+inline double default_weld_tolerance(double r, double domain_diagonal, bool unwelded = false) {
+  return unwelded ? 0 : 1e-4 * std::min(r, domain_diagonal);
 }
 
 // Welds the mesh in place with tolerance w > 0 (r scales the non-planarity figure). Vertices on

@@ -236,7 +236,8 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     }
   }
   size_t faces = 0;
-  for (int level = 0; level < 24 && !active.empty(); ++level) {
+  // (Bounded: sub-triangles that no disk covers would otherwise grow fourfold a level.)
+  for (int level = 0; level < 20 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
     std::erase_if(active, [&](const Sub& s) { return hash.covers(s.p, rf); });
     if (active.empty()) break;
     std::vector<double> cumulative(active.size());
