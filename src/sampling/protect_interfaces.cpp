@@ -236,9 +236,18 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     }
   }
   size_t faces = 0;
+  // A sub-triangle is done when one disk holds it, or when it is below 1e-6 r/sqrt(2) and each
+  // corner lies in some disk: where two circles cross, a point on both is covered by neither
+  // disk's interior alone, and the sub-triangles about it would be split for ever (maximal up to
+  // that size, far below anything the cells resolve).
+  auto done = [&](const Sub& s) {
+    if (hash.covers(s.p, rf)) return true;
+    return longest(s.p) < 1e-6 * rf && hash.any_within(s.p[0], rf * (1 + 1e-12)) &&
+           hash.any_within(s.p[1], rf * (1 + 1e-12)) && hash.any_within(s.p[2], rf * (1 + 1e-12));
+  };
   // (Bounded: sub-triangles that no disk covers would otherwise grow fourfold a level.)
-  for (int level = 0; level < 20 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
-    std::erase_if(active, [&](const Sub& s) { return hash.covers(s.p, rf); });
+  for (int level = 0; level < 30 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
+    std::erase_if(active, done);
     if (active.empty()) break;
     std::vector<double> cumulative(active.size());
     double total = 0;
@@ -258,7 +267,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
       add(p, CellKind::InterfaceFace, -1.0 * set.facet_planes[size_t(s.facet)].normal);
       ++faces;
     }
-    std::erase_if(active, [&](const Sub& s) { return hash.covers(s.p, rf); });
+    std::erase_if(active, done);
     std::vector<Sub> finer;
     for (const Sub& s : active) split4(s, finer);
     active.swap(finer);
