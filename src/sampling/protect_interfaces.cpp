@@ -162,7 +162,8 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
     hash.add(p);
-    for (Segment& s : segments) cover(s, p, rc);
+    if (kind == CellKind::InterfaceEdge)  // the curves are sampled before the facets
+      for (Segment& s : segments) cover(s, p, rc);
   };
   for (Vec3 p : prior)
     for (Segment& s : segments) cover(s, p, rc);
