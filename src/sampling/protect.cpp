@@ -23,14 +23,19 @@ struct Piece {
   std::vector<std::pair<double, double>> uncovered;
 };
 
-// Removes from the piece the points within `radius` of p.
-void cover(Piece& piece, Vec3 p, double radius) {
-  const Vec3 ap = p - piece.a;
-  const double m = dot(piece.dir, ap), disc = m * m - norm2(ap) + radius * radius;
+void cover(Piece& piece, Vec3 p, double radius) { remove_disk(piece.uncovered, piece.a, piece.dir, p, radius); }
+
+Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
+
+}  // namespace
+
+void remove_disk(std::vector<std::pair<double, double>>& uncovered, Vec3 a, Vec3 dir, Vec3 p, double radius) {
+  const Vec3 ap = p - a;
+  const double m = dot(dir, ap), disc = m * m - norm2(ap) + radius * radius;
   if (disc <= 0) return;
   const double lo = m - std::sqrt(disc), hi = m + std::sqrt(disc);
   std::vector<std::pair<double, double>> kept;
-  for (auto [u, v] : piece.uncovered) {
+  for (auto [u, v] : uncovered) {
     if (v <= lo || u >= hi) {
       kept.push_back({u, v});
       continue;
@@ -38,12 +43,8 @@ void cover(Piece& piece, Vec3 p, double radius) {
     if (u < lo) kept.push_back({u, lo});
     if (v > hi) kept.push_back({hi, v});
   }
-  piece.uncovered.swap(kept);
+  uncovered.swap(kept);
 }
-
-Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
-
-}  // namespace
 
 ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed,
                                         const std::function<double(Vec3)>& h) {

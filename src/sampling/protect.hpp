@@ -8,6 +8,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "froth/domain.hpp"
@@ -22,6 +23,10 @@ struct ProtectionSeeds {
   // seed already inside (vertex seeds sit 1e-7 r inside their vertex).
   std::vector<Vec3> inward;
 };
+
+// Removes from the parameter intervals `uncovered` (arc length along a + t dir, dir of unit
+// length; sorted, disjoint) the points within `radius` of p.
+void remove_disk(std::vector<std::pair<double, double>>& uncovered, Vec3 a, Vec3 dir, Vec3 p, double radius);
 
 // A pure function of (domain, r, seed). Seeds of one run keep r_e from each other; seeds of
 // different runs may be closer where runs meet at a small angle (the paper's sharp edges).

@@ -21,6 +21,19 @@ class SeedHash {
   explicit SeedHash(double side) : side_(side) {}
   void add(Vec3 p) { cells_[key(cell(p))].push_back(p); }
   bool any_within(Vec3 p, double d) const {
+    return any_near(p, [&](Vec3 q) { return norm2(q - p) < d * d; });
+  }
+  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are)?
+  bool covers(const std::array<Vec3, 3>& t, double d) const {
+    return any_near((1.0 / 3) * (t[0] + t[1] + t[2]), [&](Vec3 q) {
+      return norm2(t[0] - q) <= d * d && norm2(t[1] - q) <= d * d && norm2(t[2] - q) <= d * d;
+    });
+  }
+
+ private:
+  // Does a seed in the cubes around p's satisfy `test`?
+  template <class Test>
+  bool any_near(Vec3 p, Test&& test) const {
     const auto c = cell(p);
     for (int64_t dz = -1; dz <= 1; ++dz)
       for (int64_t dy = -1; dy <= 1; ++dy)
@@ -28,26 +41,10 @@ class SeedHash {
           const auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
           if (it == cells_.end()) continue;
           for (Vec3 q : it->second)
-            if (norm2(q - p) < d * d) return true;
+            if (test(q)) return true;
         }
     return false;
   }
-  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are)?
-  bool covers(const std::array<Vec3, 3>& t, double d) const {
-    const Vec3 c = (1.0 / 3) * (t[0] + t[1] + t[2]);
-    const auto k = cell(c);
-    for (int64_t dz = -1; dz <= 1; ++dz)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dx = -1; dx <= 1; ++dx) {
-          const auto it = cells_.find(key({k[0] + dx, k[1] + dy, k[2] + dz}));
-          if (it == cells_.end()) continue;
-          for (Vec3 q : it->second)
-            if (norm2(t[0] - q) <= d * d && norm2(t[1] - q) <= d * d && norm2(t[2] - q) <= d * d) return true;
-        }
-    return false;
-  }
-
- private:
   std::array<int64_t, 3> cell(Vec3 p) const {
     return {int64_t(std::floor(p.x / side_)), int64_t(std::floor(p.y / side_)), int64_t(std::floor(p.z / side_))};
   }
@@ -66,22 +63,7 @@ struct Segment {
   std::vector<std::pair<double, double>> uncovered;
 };
 
-void cover(Segment& s, Vec3 p, double radius) {
-  const Vec3 ap = p - s.a;
-  const double m = dot(s.dir, ap), disc = m * m - norm2(ap) + radius * radius;
-  if (disc <= 0) return;
-  const double lo = m - std::sqrt(disc), hi = m + std::sqrt(disc);
-  std::vector<std::pair<double, double>> kept;
-  for (auto [u, v] : s.uncovered) {
-    if (v <= lo || u >= hi) {
-      kept.push_back({u, v});
-      continue;
-    }
-    if (u < lo) kept.push_back({u, lo});
-    if (v > hi) kept.push_back({hi, v});
-  }
-  s.uncovered.swap(kept);
-}
+void cover(Segment& s, Vec3 p, double radius) { remove_disk(s.uncovered, s.a, s.dir, p, radius); }
 
 // A direction from p into some region (p just off it in that direction is strictly inside one).
 Vec3 into_a_region(const RegionSet& set, Vec3 p, const std::vector<Vec3>& candidates, double step) {
