@@ -105,6 +105,23 @@ def test_views_outlive_the_mesh_object():
     assert points.shape[1] == 3 and np.all((points >= -1e-12) & (points <= 1 + 1e-12))
 
 
+def test_regions_match_the_command_line_and_read_back(tmp_path):
+    boxes = [BOX, "box:1,0,0,2,1,1", "box:0,0,1,2,1,1.5"]  # not one face shared alike: the third spans both
+    with pytest.raises(froth.InvalidInputError):
+        froth.mesh(boxes, r=0.2)
+    boxes = [BOX, "box:1,0,0,2,1,1"]
+    mesh = froth.mesh(boxes, r=0.2, seed=4)
+    assert mesh.region_names == ["box_0", "box_1"]
+    region, volume = mesh.cell_data["region"], mesh.cell_data["volume"]
+    assert np.allclose([volume[region == k].sum() for k in (0, 1)], [1, 1], rtol=1e-12)
+    assert (mesh.cell_data["kind"] >= 4).any()
+    mesh.write(tmp_path / "py.vtu")
+    cli("mesh", *boxes, "-r", "0.2", "--seed", "4", "-q", "-o", tmp_path / "cli.vtu")
+    assert same_bytes(tmp_path / "py.vtu", tmp_path / "cli.vtu")
+    back = froth.read(tmp_path / "py.vtu")
+    assert back.region_names == mesh.region_names and np.array_equal(back.cell_data["region"], region)
+
+
 def test_read_gives_back_the_written_mesh(tmp_path):
     mesh = froth.mesh(str(MODELS / "hinge.stl"), r=1.5, seed=9)
     mesh.write(tmp_path / "h.vtu", compress=True)
