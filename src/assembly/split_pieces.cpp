@@ -99,7 +99,8 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
       if (volume[size_t(h)] > 0 && component_region[size_t(h)] == component_region[c] &&
           (host < 0 || around[size_t(h)] > around[size_t(host)]))
         host = h;
-    if (host < 0) host = int(c);  // a cavity wall in no piece of its region: cannot happen for a closed part
+    for (int h = 0; h < components && host < 0; ++h)  // no piece of its region around it: cannot happen
+      if (volume[size_t(h)] > 0) host = h;
     piece_of[c] = piece_of[size_t(host)];
   }
   if (out.count == 0)  // cannot happen for a closed cell
@@ -168,7 +169,6 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
     const int32_t rf = m.face_region.empty() ? 0 : m.face_region[size_t(f)];
     if (regions && g < 0 && regions->is_interface(generator_plane(g))) {
       // An interface face: its twin is this cell's part on the other side.
-      g = int32_t(c);
       const int32_t w = which[c];
       const int32_t other = regions->across(generator_plane(m.face_generator[f]), rf);
       return int32_t(first[c] + (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]], other)));
