@@ -57,6 +57,7 @@ class RegionBuilder {
     assign_parts();
     auto set = std::make_shared<RegionSet>();
     group_facets(*set);
+    refuse_near_misses();
     make_solids(*set);
     Domain u = make_union(*set);
     u.regions = std::move(set);
@@ -253,6 +254,48 @@ class RegionBuilder {
     }
     for (const auto& [pair, a] : area) set.interfaces.push_back({pair.first, pair.second, a});
     set.edges = edges_;
+  }
+
+  // Faces meant to touch but a rounding error apart (an export in single precision, two solids
+  // snapped to different grids) would mesh as two bodies with a sliver of gap between them: two
+  // vertices of different regions closer than 1e-6 of the part's size, and not one vertex.
+  void refuse_near_misses() const {
+    std::vector<std::vector<int32_t>> regions_at(V_.size());
+    for (size_t u = 0; u < tri_.size(); ++u)
+      for (int32_t region : {side_region_[2 * u], side_region_[2 * u + 1]})
+        if (region >= 0)
+          for (int32_t v : tri_[u])
+            if (std::find(regions_at[v].begin(), regions_at[v].end(), region) == regions_at[v].end())
+              regions_at[v].push_back(region);
+    const double tol = 1e-6 * norm(bounds().size());
+    std::map<std::array<int64_t, 3>, std::vector<int32_t>> cells;
+    auto cell_of = [&](Vec3 p) {
+      return std::array<int64_t, 3>{int64_t(std::floor(p.x / tol)), int64_t(std::floor(p.y / tol)), int64_t(std::floor(p.z / tol))};
+    };
+    for (size_t v = 0; v < V_.size(); ++v)
+      if (!regions_at[v].empty()) cells[cell_of(V_[v])].push_back(int32_t(v));
+    for (size_t v = 0; v < V_.size(); ++v) {
+      if (regions_at[v].empty()) continue;
+      const auto c = cell_of(V_[v]);
+      for (int64_t dz = -1; dz <= 1; ++dz)
+        for (int64_t dy = -1; dy <= 1; ++dy)
+          for (int64_t dx = -1; dx <= 1; ++dx) {
+            const auto it = cells.find({c[0] + dx, c[1] + dy, c[2] + dz});
+            if (it == cells.end()) continue;
+            for (int32_t w : it->second) {
+              if (w <= int32_t(v) || norm(V_[w] - V_[v]) >= tol) continue;
+              for (int32_t a : regions_at[v])
+                for (int32_t b : regions_at[size_t(w)])
+                  if (a != b && std::find(regions_at[v].begin(), regions_at[v].end(), b) == regions_at[v].end())
+                    fail(ErrorKind::InvalidInput,
+                         fmt::format("{} and {} nearly touch: vertices {} and {} are {:.3g} apart (below 1e-6 of the "
+                                     "part's size) but not one vertex; faces meant to touch must share their vertices "
+                                     "exactly, and solids meant to be apart must be farther apart",
+                                     body_names_[size_t(a)], body_names_[size_t(b)], where(V_[v]), where(V_[w]),
+                                     norm(V_[w] - V_[v])));
+            }
+          }
+    }
   }
 
   void make_solids(RegionSet& set) {

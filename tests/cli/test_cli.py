@@ -178,6 +178,7 @@ for args, code, words in [
     (["box:0,0,0,1,1,1", "box:0.5,0.2,0.2,1.5,0.8,0.8", "-r", "0.1"], 3, "regions overlap, cross"),
     (["box:0,0,0,1,1,1", "box:0,0,0,1,1,1", "-r", "0.1"], 3, "listed twice the same way"),
     (["box:0,0,0,1,1,1", "box:1,0,0,2,1,1.5", "-r", "0.1"], 3, "same triangles there"),
+    (["box:0,0,0,1,1,1", "box:1.0000001,0,0,2,1,1", "-r", "0.1"], 3, "box_0 and box_1 nearly touch"),
     # The two broken kinds of real parts (tests/data/README.md): a non-manifold vertex, an open
     # surface with crossing triangles, folded faces.
     ([os.path.join(DATA, "touching_tetrahedra.off"), "-r", "0.3"], 3, "not manifold at vertex 0"),
