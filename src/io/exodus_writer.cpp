@@ -6,6 +6,7 @@
 // (element, local face), and
 // double-precision coordinates. Elements are numbered block by block; the element id map and the
 // variable cell_id give each element's froth cell number (from 1).
+#include <map>
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -133,12 +134,29 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
   std::vector<std::vector<int>> side_elements(patches), side_faces(patches);
   std::vector<size_t> element_of(n);
   for (size_t e = 0; e < n; ++e) element_of[order[e]] = e;
+  std::vector<std::string> side_names;
+  for (size_t q = 0; q < patches; ++q) side_names.push_back(m.patch_names.empty() ? "walls" : m.patch_names[q]);
+  // A multi-region mesh: a side set per interface after the patches', the faces of its first
+  // region's cells toward its second's (where a solver puts cohesive elements).
+  std::map<std::pair<int32_t, int32_t>, size_t> interface_set;
+  auto side_set_of = [&](int32_t a, int32_t b) {
+    const auto [it, added] = interface_set.try_emplace({a, b}, side_names.size());
+    if (added) {
+      side_names.push_back(fmt::format("interface_{}_{}", m.region_names[size_t(a)], m.region_names[size_t(b)]));
+      side_elements.emplace_back(), side_faces.emplace_back();
+    }
+    return it->second;
+  };
   for (size_t c = 0; c < n; ++c)
-    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f)
-      if (is_border_generator(m.face_generator[f])) {
-        const size_t p = size_t(m.patch_of(size_t(f)));
-        side_elements[p].push_back(int(element_of[c] + 1)), side_faces[p].push_back(int(f - m.cell_face_begin[c] + 1));
-      }
+    for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+      const int32_t g = m.face_generator[f];
+      size_t set = side_names.size();
+      if (is_border_generator(g)) set = size_t(m.patch_of(size_t(f)));
+      else if (!m.region.empty() && m.region[c] < m.region[size_t(g)]) set = side_set_of(m.region[c], m.region[size_t(g)]);
+      if (set == side_names.size()) continue;
+      side_elements[set].push_back(int(element_of[c] + 1)), side_faces[set].push_back(int(f - m.cell_face_begin[c] + 1));
+    }
+  const size_t side_sets = side_names.size();
 
   write_atomically_by_name(path, [&](const std::filesystem::path& tmp) {
     int word = 8, io_word = 8;
@@ -162,11 +180,11 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     p.num_face_blk = 1;
     p.num_elem = int64_t(n);
     p.num_elem_blk = blocks;
-    p.num_side_sets = int64_t(patches);
+    p.num_side_sets = int64_t(side_sets);
     check(ex_put_init_ext(exo, &p), path, "the header");
     // Everything is defined before any bulk data is written: netCDF's classic format rewrites
     // the whole file each time a definition follows data.
-    std::vector<std::vector<int>> faces_of(4), element_faces(4);
+    std::vector<std::vector<int>> faces_of(static_cast<size_t>(nblocks)), element_faces(static_cast<size_t>(nblocks));
     for (size_t e = 0, first = 0; e < size_t(nblocks); first += size_t(per_kind[e]), ++e)
       for (size_t k = first; k < first + size_t(per_kind[e]); ++k) {
         const size_t c = order[k];
@@ -181,7 +199,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
         check(ex_put_block(exo, EX_ELEM_BLOCK, k + 1, "NFACED", per_kind[size_t(k)], 0, 0,
                            int64_t(element_faces[size_t(k)].size()), 0),
               path, "an element block");
-    for (size_t q = 0; q < patches; ++q)
+    for (size_t q = 0; q < side_sets; ++q)
       check(ex_put_set_param(exo, EX_SIDE_SET, int64_t(q + 1), int64_t(side_elements[q].size()), 0), path,
             "a side set");
     const std::vector<std::pair<std::string, std::vector<double>>> vars = element_variables(m);
@@ -194,9 +212,8 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
     check(ex_put_coord_names(exo, const_cast<char**>(axes)), path, "the coordinate names");
     for (int k = 0; k < nblocks; ++k)
       if (per_kind[size_t(k)] > 0) check(ex_put_name(exo, EX_ELEM_BLOCK, k + 1, block_name(k)), path, "a block name");
-    for (size_t q = 0; q < patches; ++q)
-      check(ex_put_name(exo, EX_SIDE_SET, int64_t(q + 1), m.patch_names.empty() ? "walls" : m.patch_names[q].c_str()),
-            path, "a side set's name");
+    for (size_t q = 0; q < side_sets; ++q)
+      check(ex_put_name(exo, EX_SIDE_SET, int64_t(q + 1), side_names[q].c_str()), path, "a side set's name");
     for (size_t v = 0; v < vars.size(); ++v)
       check(ex_put_variable_name(exo, EX_ELEM_BLOCK, int(v + 1), vars[v].first.c_str()), path, "a variable name");
 
@@ -212,7 +229,7 @@ void write_exodus(const PolyMesh& m, const RunReport& run, const std::filesystem
       check(ex_put_entity_count_per_polyhedra(exo, EX_ELEM_BLOCK, k + 1, faces_of[size_t(k)].data()), path,
             "an element block's face counts");
     }
-    for (size_t q = 0; q < patches; ++q)
+    for (size_t q = 0; q < side_sets; ++q)
       check(ex_put_set(exo, EX_SIDE_SET, int64_t(q + 1), side_elements[q].data(), side_faces[q].data()), path,
             "a side set's faces");
     const double time = 0;

@@ -193,6 +193,29 @@ with tempfile.TemporaryDirectory() as work:
     allowed = ("face pyramids", "skewness", "concave cells", "non-orthogonal")
     check(all(any(a in f for a in allowed) for f in failed), f"heater polyMesh: checkMesh failed a topological check: {failed}")
 
+    # The heater in Exodus II (VTK's reader): an element block per region with the VTU's counts,
+    # and a side set per interface.
+    import vtk
+    exo, vtu = os.path.join(work, "h.exo"), os.path.join(work, "h.vtu")
+    p = froth("mesh", *HEATER, "-r", "0.012", "-o", exo, "-q")
+    q = froth("mesh", *HEATER, "-r", "0.012", "-o", vtu, "-q")
+    check(p.returncode == 0 and q.returncode == 0, f"heater Exodus: {p.stderr} {q.stderr}")
+    if p.returncode == 0 and q.returncode == 0:
+        r = vtk.vtkExodusIIReader()
+        r.SetFileName(exo)
+        r.UpdateInformation()
+        blocks = [r.GetObjectName(vtk.vtkExodusIIReader.ELEM_BLOCK, k).split(" ")[0]
+                  for k in range(r.GetNumberOfObjects(vtk.vtkExodusIIReader.ELEM_BLOCK))]
+        counts = [r.GetNumberOfEntriesInObject(vtk.vtkExodusIIReader.ELEM_BLOCK, k) for k in range(len(blocks))]
+        sets = [r.GetObjectName(vtk.vtkExodusIIReader.SIDE_SET, k).split(" ")[0]
+                for k in range(r.GetNumberOfObjects(vtk.vtkExodusIIReader.SIDE_SET))]
+        _, region, _, _, _ = kinds_and_regions(read_vtk(vtu))
+        names = ["bottomAir", "heater", "leftSolid", "rightSolid", "topAir"]
+        check(blocks == names, f"heater Exodus: blocks {blocks}")
+        check(counts == [int((region == k).sum()) for k in range(5)], f"heater Exodus: block sizes {counts}")
+        check(len([s for s in sets if s.startswith("interface_")]) == 8 and "interface_bottomAir_heater" in sets,
+              f"heater Exodus: side sets {sets}")
+
     # An ensemble of two members works unchanged.
     ens = os.path.join(work, "ens")
     p = froth("ensemble", "box:0,0,0,1,1,1", "box:1,0,0,2,1,1", "-r", "0.2", "--members", "2", "-o", ens, "-q")
