@@ -194,7 +194,7 @@ void measure_regions(const RegionSet& set, const PolyMesh& mesh, RunReport& run)
       if (g < 0 || is_other_piece_generator(g)) continue;
       const int32_t a = mesh.region_of(c), b = mesh.region_of(size_t(g));
       if (a == b) continue;
-      const auto it = index.find(std::minmax(a, b));
+      const auto it = index.find({std::min(a, b), std::max(a, b)});
       if (it == index.end()) continue;  // (regions that touch only where no interface was found: checked by tests)
       RunReport::Interface& i = run.interfaces[it->second];
       (a == i.a ? i.from_a : i.from_b) += face_area(mesh, f);

@@ -114,9 +114,9 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     bool any_interface = false, curve = false;
     for (int32_t f : facets) any_interface |= set.is_interface(f);
     if (!any_interface || facets.size() < 2) continue;
-    auto pair_of = [&](int32_t f) {
-      auto s = set.facet_sides[size_t(f)];
-      return std::minmax(s[0], s[1]);
+    auto pair_of = [&](int32_t f) {  // (by value: std::minmax returns references)
+      const auto& s = set.facet_sides[size_t(f)];
+      return std::pair<int32_t, int32_t>{std::min(s[0], s[1]), std::max(s[0], s[1])};
     };
     for (int32_t f : facets) curve |= pair_of(f) != pair_of(facets[0]);
     if (!curve && facets.size() == 2 &&
