@@ -435,7 +435,16 @@ bool has_shared_triangles(const TriangleSurface& s) {
 
 Domain regions_from_shared_triangles(const TriangleSurface& s, const std::string& name, const DomainOptions& options) {
   std::vector<Occurrence> occ;
-  for (size_t t = 0; t < s.triangles.size(); ++t) occ.push_back({s.triangles[t], -1, patch_of(s, t)});
+  for (size_t t = 0; t < s.triangles.size(); ++t) {
+    // What the regions' own validation would find later, found before the sides are paired
+    // (which needs edges of positive length and finite coordinates).
+    const Tri& v = s.triangles[t];
+    bool finite = true;
+    for (int32_t k : v) finite &= std::isfinite(s.vertices[k].x) && std::isfinite(s.vertices[k].y) && std::isfinite(s.vertices[k].z);
+    if (!finite || v[0] == v[1] || v[1] == v[2] || v[0] == v[2])
+      fail(ErrorKind::InvalidInput, fmt::format("{}: triangle {} is degenerate or has a non-finite coordinate", name, t));
+    occ.push_back({v, -1, patch_of(s, t)});
+  }
   Domain d = RegionBuilder(s.vertices, std::move(occ), {}, name, options).build();
   d.description = name;
   return d;
