@@ -24,19 +24,9 @@ RegionClipper::RegionClipper(const RegionSurfaces& surfaces) : s_(surfaces) {
 
 namespace {
 
-uint64_t hash_of(const ConvexCell::Names& k) {
-  uint64_t h = k.n;
-  for (int i = 0; i < k.n; ++i) h = (h ^ uint32_t(k.gen[i])) * 0x9E3779B97F4A7C15ull;
-  return h;
-}
-
 ConvexCell::Names sorted(ConvexCell::Names k) {
   std::sort(k.gen, k.gen + k.n);
   return k;
-}
-
-bool same(const ConvexCell::Names& a, const ConvexCell::Names& b) {
-  return a.n == b.n && std::equal(a.gen, a.gen + a.n, b.gen);
 }
 
 template <class Cell>
@@ -54,10 +44,10 @@ void RegionClipper::add_part(const Cell& part, const std::vector<ConvexCell::Nam
   local_.resize(part.vertex_count());
   for (size_t v = 0; v < part.vertex_count(); ++v) {
     const ConvexCell::Names key = sorted(names[v]);
-    const uint64_t h = hash_of(key);
+    const uint64_t h = key.hash();
     int32_t found = -1;
     for (const auto& [hk, at] : index_)
-      if (hk == h && same(out.names_[size_t(at)], key)) {
+      if (hk == h && out.names_[size_t(at)].same_as(key)) {
         found = at;
         break;
       }

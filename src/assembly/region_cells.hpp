@@ -17,31 +17,17 @@
 
 namespace froth {
 
-// The parts of one cell, with ClippedCell's accessors (for assembly) and each face's region.
-class RegionCell {
+// The parts of one cell: ClippedCell's faces and vertices (for assembly), each face's region, and
+// pieces() counted over all regions (a cell of one region in one piece needs no split).
+class RegionCell : public ClippedCell {
  public:
-  size_t vertex_count() const { return points_.size(); }
-  size_t face_count() const { return face_gen_.size(); }
-  Vec3 vertex(size_t v) const { return points_[v]; }
-  int32_t face_generator(size_t f) const { return face_gen_[f]; }
-  const uint16_t* face_begin(size_t f) const { return face_vert_.data() + face_start_[f]; }
-  size_t face_size(size_t f) const { return face_start_[f + 1] - face_start_[f]; }
-  uint8_t face_loop(size_t f) const { return face_loop_[f]; }
   int32_t face_region(size_t f) const { return face_region_[f]; }
-  const std::vector<ConvexCell::Names>& names() const { return names_; }
-  // Regions met, and pieces over all of them: a cell of one region in one piece needs no split.
   int regions() const { return regions_; }
-  int pieces() const { return pieces_; }
 
  private:
   friend class RegionClipper;
-  std::vector<Vec3> points_;
-  std::vector<ConvexCell::Names> names_;
-  std::vector<int32_t> face_gen_, face_region_;
-  std::vector<uint32_t> face_start_{0};
-  std::vector<uint16_t> face_vert_;
-  std::vector<uint8_t> face_loop_;
-  int regions_ = 0, pieces_ = 0;
+  std::vector<int32_t> face_region_;
+  int regions_ = 0;
 };
 
 // The regions' generators and triangle grids, shared by all threads.

@@ -61,7 +61,6 @@ Names key_of(std::initializer_list<int32_t> gens) {
   return k;
 }
 
-bool same_names(const Names& a, const Names& b) { return a.n == b.n && std::equal(a.gen, a.gen + a.n, b.gen); }
 
 // The unordered pair {a, b} as one key.
 uint64_t generator_pair(int32_t a, int32_t b) {
@@ -303,10 +302,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
   std::vector<int32_t>& table = w.table;
   pts.clear(), keys.clear(), table.assign(256, -1);
   auto slot_of = [&](const Names& k) {
-    uint64_t h = k.n;
-    for (int i = 0; i < k.n; ++i) h = (h ^ uint32_t(k.gen[i])) * 0x9E3779B97F4A7C15ull;
-    size_t s = size_t(h >> 32) & (table.size() - 1);
-    while (table[s] >= 0 && !same_names(keys[table[s]], k)) s = (s + 1) & (table.size() - 1);
+    size_t s = size_t(k.hash() >> 32) & (table.size() - 1);
+    while (table[s] >= 0 && !keys[table[s]].same_as(k)) s = (s + 1) & (table.size() - 1);
     return s;
   };
   auto intern = [&](const Names& k, Vec3 p) {

@@ -57,7 +57,7 @@ class ClippedCell {
   // Connected pieces of V ∩ D (a wall thinner than the cell seen from both sides makes two).
   int pieces() const { return pieces_; }
 
- private:
+ protected:  // (RegionCell, a cell's parts in several regions, is built the same way)
   friend class CellClipper;
   std::vector<Vec3> points_;
   std::vector<ConvexCell::Names> names_;

@@ -36,6 +36,18 @@ class ConvexCell {
         if (gen[i] == g) return true;
       return false;
     }
+    // The same generators in the same order (names are compared sorted).
+    bool same_as(const Names& o) const {
+      if (n != o.n) return false;
+      for (int i = 0; i < n; ++i)
+        if (gen[i] != o.gen[i]) return false;
+      return true;
+    }
+    uint64_t hash() const {
+      uint64_t h = n;
+      for (int i = 0; i < n; ++i) h = (h ^ uint32_t(gen[i])) * 0x9E3779B97F4A7C15ull;
+      return h;
+    }
   };
 
   enum class Clip { Unchanged, Cut, Empty, Failed };
