@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <fmt/format.h>
@@ -94,14 +93,13 @@ class RegionBuilder {
 
   // Around each edge, the wedges between angularly neighbouring triangles join their sides.
   void pair_sides() {
-    std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> around;
     for (size_t u = 0; u < tri_.size(); ++u)
       for (int k = 0; k < 3; ++k) {
         const int32_t a = tri_[u][k], b = tri_[u][(k + 1) % 3];
-        around[{std::min(a, b), std::max(a, b)}].push_back(int32_t(u));
+        around_[{std::min(a, b), std::max(a, b)}].push_back(int32_t(u));
       }
     parts_.reset(2 * tri_.size());
-    for (const auto& [edge, tris] : around) {
+    for (const auto& [edge, tris] : around_) {
       edges_.push_back(edge);
       const auto [a, b] = edge;
       if (tris.size() < 2)
@@ -156,16 +154,16 @@ class RegionBuilder {
         part_body_[p] = int32_t(body_names_.size());
         body_names_.push_back(body_name_from_patches(int32_t(p)));
       }
-    region_of_body_.resize(body_names_.size());
-    std::iota(region_of_body_.begin(), region_of_body_.end(), 0);
     // Parts no input calls inside, and a single file's cavity walls: inside the innermost region
     // whose solid (as known so far) holds a point just off them, or outside.
     std::vector<int32_t> open;
     for (size_t p = 0; p < part_body_.size(); ++p)
       if (part_body_[p] < 0 || part_body_[p] == kUnknownBody) open.push_back(int32_t(p)), part_body_[p] = -1;
     if (open.empty()) return;
-    std::vector<Domain> solid(body_names_.size());
-    for (size_t b = 0; b < body_names_.size(); ++b) solid[b] = region_domain(int32_t(b), false);
+    // (Kept: a region that gains no part here is this domain in the end.)
+    std::vector<Domain>& solid = provisional_;
+    solid.resize(body_names_.size());
+    for (size_t b = 0; b < body_names_.size(); ++b) solid[b] = region_domain(int32_t(b));
     std::vector<int32_t> decided(part_body_.size());
     for (int32_t p : open) {
       const int32_t s = part_probe_[size_t(p)];
@@ -179,7 +177,11 @@ class RegionBuilder {
         if (solid[b].contains(probe) && (host < 0 || solid[b].volume < solid[size_t(host)].volume)) host = int32_t(b);
       decided[size_t(p)] = host;
     }
-    for (int32_t p : open) part_body_[size_t(p)] = decided[size_t(p)];
+    grown_.assign(body_names_.size(), 0);
+    for (int32_t p : open) {
+      part_body_[size_t(p)] = decided[size_t(p)];
+      if (decided[size_t(p)] >= 0) grown_[size_t(decided[size_t(p)])] = 1;
+    }
   }
 
   void group_facets(RegionSet& set) {
@@ -198,14 +200,8 @@ class RegionBuilder {
                          where(V_[t[0]]), where(V_[t[1]]), where(V_[t[2]]), body_names_[size_t(behind)]));
     }
     // Facets: coplanar triangles across an edge, with the same region on each side.
-    std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> around;
-    for (size_t u = 0; u < U; ++u)
-      for (int k = 0; k < 3; ++k) {
-        const int32_t a = tri_[u][k], b = tri_[u][(k + 1) % 3];
-        around[{std::min(a, b), std::max(a, b)}].push_back(int32_t(u));
-      }
     UnionFind facets(U);
-    for (const auto& [edge, tris] : around)
+    for (const auto& [edge, tris] : around_)
       for (size_t i = 0; i < tris.size(); ++i)
         for (size_t j = i + 1; j < tris.size(); ++j) {
           const int32_t u = tris[i], w = tris[j];
@@ -301,12 +297,15 @@ class RegionBuilder {
   void make_solids(RegionSet& set) {
     set.names.assign(body_names_.begin(), body_names_.end());
     for (size_t k = 0; k < body_names_.size(); ++k) {
-      Domain d = region_domain(int32_t(k), true);
+      const bool kept = k < provisional_.size() && !grown_[k];
+      Domain d = kept ? std::move(provisional_[k]) : region_domain(int32_t(k));
       // The facets as planes, oriented out of this region.
       d.planes = set.facet_planes;
       for (size_t f = 0; f < d.planes.size(); ++f)
         if (set.facet_sides[f][1] == int32_t(k)) d.planes[f] = {-1.0 * d.planes[f].normal, -d.planes[f].offset};
-      d.triangle_plane = region_facets_[k];
+      d.triangle_plane.clear();  // each triangle's facet, in region_domain's order
+      for (size_t side = 0; side < material_.size(); ++side)
+        if (part_body_[size_t(part_[side])] == int32_t(k)) d.triangle_plane.push_back(facet_[side / 2]);
       d.convex = false;
       d.reflex_curves.clear();
       set.solids.push_back(std::move(d));
@@ -354,16 +353,11 @@ class RegionBuilder {
   }
 
   // Region k's surface (the sides its parts hold, wound out of it) as a validated domain.
-  Domain region_domain(int32_t k, bool record_facets) {
+  Domain region_domain(int32_t k) {
     TriangleSurface s;
     s.vertices = V_;
-    std::vector<int32_t> facets;
-    for (size_t side = 0; side < material_.size(); ++side) {
-      if (part_body_[size_t(part_[side])] != k) continue;
-      s.triangles.push_back(oriented_out_of(int32_t(side)));
-      if (record_facets) facets.push_back(facet_[side / 2]);
-    }
-    if (record_facets) region_facets_.push_back(std::move(facets));
+    for (size_t side = 0; side < material_.size(); ++side)
+      if (part_body_[size_t(part_[side])] == k) s.triangles.push_back(oriented_out_of(int32_t(side)));
     DomainOptions o = options_;
     o.repair = false;
     // Each input alone was valid (or a single file's solids are found here): a defect now is
@@ -413,9 +407,11 @@ class RegionBuilder {
   std::vector<int32_t> first_occ_, material_, occ_of_side_;
   std::vector<std::pair<int32_t, int32_t>> edges_;
   UnionFind parts_{0};
-  std::vector<int32_t> part_, part_body_, part_probe_, region_of_body_, side_region_, facet_;
+  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> around_;  // each edge's triangles
+  std::vector<int32_t> part_, part_body_, part_probe_, side_region_, facet_;
   std::vector<double> part_volume6_;
-  std::vector<std::vector<int32_t>> region_facets_;
+  std::vector<Domain> provisional_;  // the regions' solids before open parts joined them
+  std::vector<uint8_t> grown_;       // per region: an open part joined it
 };
 
 std::string patch_of(const TriangleSurface& s, size_t t) {
