@@ -290,37 +290,22 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
   xml << (narrow ? cell_arrays<int32_t>(w, m, npts, connectivity, faces, stream_length)
                  : cell_arrays<int64_t>(w, m, npts, connectivity, faces, stream_length));
   xml << "</Cells>\n<CellData>\n" << raw_array(w, m.seeds, "Float64", "seed", 3);
-  xml << data_array(
-      w, n * 4,
-      [&](std::ostream& out) {
-        ValueWriter<int32_t> vw(out);
-        for (CellKind k : m.kinds) vw.put(int32_t(k));
-      },
-      "Int32", "kind");
+  // An Int32 cell array, value_of(c) per cell (kept by value: the block is produced when the
+  // file is written, after this call returns).
+  auto int_cell_array = [&](const char* name, auto value_of) {
+    return data_array(
+        w, n * 4,
+        [&, value_of](std::ostream& out) {
+          ValueWriter<int32_t> vw(out);
+          for (size_t c = 0; c < n; ++c) vw.put(int32_t(value_of(c)));
+        },
+        "Int32", name);
+  };
+  xml << int_cell_array("kind", [&](size_t c) { return m.kinds[c]; });
   xml << raw_array(w, m.volumes, "Float64", "volume");
-  xml << data_array(
-      w, n * 4,
-      [&](std::ostream& out) {
-        ValueWriter<int32_t> vw(out);
-        for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.piece_of(c)));
-      },
-      "Int32", "piece");
-  if (!m.region.empty())
-    xml << data_array(
-        w, n * 4,
-        [&](std::ostream& out) {
-          ValueWriter<int32_t> vw(out);
-          for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.region[c]));
-        },
-        "Int32", "region");
-  if (!m.parent.empty())
-    xml << data_array(
-        w, n * 4,
-        [&](std::ostream& out) {
-          ValueWriter<int32_t> vw(out);
-          for (size_t c = 0; c < n; ++c) vw.put(int32_t(m.parent[c]));
-        },
-        "Int32", "parent");
+  xml << int_cell_array("piece", [&](size_t c) { return m.piece_of(c); });
+  if (!m.region.empty()) xml << int_cell_array("region", [&](size_t c) { return m.region[c]; });
+  if (!m.parent.empty()) xml << int_cell_array("parent", [&](size_t c) { return m.parent[c]; });
   xml << data_array(
       w, n * 24,
       [&](std::ostream& out) {
