@@ -14,28 +14,17 @@
 namespace froth {
 namespace {
 
-// One straight piece of a reflex curve and the parts of it no protection disk covers yet, as
-// sorted, disjoint parameter intervals (arc length from a).
-struct Piece {
-  Vec3 a, dir;  // dir has unit length
-  double length;
-  Vec3 inward;
-  std::vector<std::pair<double, double>> uncovered;
-};
-
-void cover(Piece& piece, Vec3 p, double radius) { remove_disk(piece.uncovered, piece.a, piece.dir, p, radius); }
-
 Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
 
 }  // namespace
 
-void remove_disk(std::vector<std::pair<double, double>>& uncovered, Vec3 a, Vec3 dir, Vec3 p, double radius) {
-  const Vec3 ap = p - a;
-  const double m = dot(dir, ap), disc = m * m - norm2(ap) + radius * radius;
+void remove_disk(LinePiece& piece, Vec3 p, double radius) {
+  const Vec3 ap = p - piece.a;
+  const double m = dot(piece.dir, ap), disc = m * m - norm2(ap) + radius * radius;
   if (disc <= 0) return;
   const double lo = m - std::sqrt(disc), hi = m + std::sqrt(disc);
   std::vector<std::pair<double, double>> kept;
-  for (auto [u, v] : uncovered) {
+  for (auto [u, v] : piece.uncovered) {
     if (v <= lo || u >= hi) {
       kept.push_back({u, v});
       continue;
@@ -43,7 +32,32 @@ void remove_disk(std::vector<std::pair<double, double>>& uncovered, Vec3 a, Vec3
     if (u < lo) kept.push_back({u, lo});
     if (v > hi) kept.push_back({hi, v});
   }
-  uncovered.swap(kept);
+  piece.uncovered.swap(kept);
+}
+
+void saturate_pieces(std::vector<LinePiece>& pieces, const CounterRng& rng, double crumb,
+                     const std::function<void(size_t, Vec3)>& accept) {
+  for (uint64_t dart = 0;; ++dart) {
+    double total = 0;
+    for (LinePiece& piece : pieces) {
+      std::erase_if(piece.uncovered, [&](const auto& iv) { return iv.second - iv.first <= crumb; });
+      for (auto [u, v] : piece.uncovered) total += v - u;
+    }
+    if (total <= 0) return;
+    double x = CounterRng::unit(rng.words(dart, 0, 0, 1)[0]) * total;
+    size_t hit = pieces.size();
+    double t = 0;
+    for (size_t k = 0; k < pieces.size() && hit == pieces.size(); ++k)
+      for (auto [u, v] : pieces[k].uncovered) {
+        if (x <= v - u) {
+          hit = k, t = std::min(u + x, v);
+          break;
+        }
+        x -= v - u;
+      }
+    if (hit == pieces.size()) return;  // round-off at the very end of the last interval
+    accept(hit, pieces[hit].a + t * pieces[hit].dir);
+  }
 }
 
 ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t seed,
@@ -68,7 +82,7 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
   // that end at it, for a vertex seed): a point of one reflex edge must be closest to a seed on
   // that line, not to one on its neighbour. Disks are Euclidean, so seeds of one line keep r_e
   // apart however it bends.
-  std::vector<Piece> pieces;
+  std::vector<LinePiece> pieces;
   std::vector<int32_t> line_of_piece;
   std::map<int32_t, std::vector<int32_t>> lines_at_vertex;  // vertex seeds and the lines they end
   int32_t lines = 0;
@@ -110,7 +124,7 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
     for (size_t k = 0; k < pieces.size(); ++k)
       if (std::find(on_lines.begin(), on_lines.end(), line_of_piece[k]) != on_lines.end())
-        cover(pieces[k], p, h ? h(p) / std::sqrt(2.0) : re);
+        remove_disk(pieces[k], p, h ? h(p) / std::sqrt(2.0) : re);
   };
 
   const CounterRng rng(seed, RandomStream::Protection);
@@ -165,31 +179,11 @@ ProtectionSeeds protect_reflex_features(const Domain& domain, double r, uint64_t
     add(q, CellKind::Vertex, Vec3{}, on_lines);  // inside already: its own anchor
   }
 
-  // 1D random sequential addition to saturation: each dart is uniform on the still uncovered
-  // part of all lines, so it is always accepted (the law of MPS), then its disk is removed from
-  // its line. Gaps shorter than round-off of the coordinates are left: maximal up to round-off.
+  // The lines sampled to saturation, each seed covering its own line.
   const double crumb = 1e-12 * std::max(r, domain.bounds.diagonal());
-  for (uint64_t dart = 0;; ++dart) {
-    double total = 0;
-    for (Piece& piece : pieces) {
-      std::erase_if(piece.uncovered, [&](const auto& iv) { return iv.second - iv.first <= crumb; });
-      for (auto [u, v] : piece.uncovered) total += v - u;
-    }
-    if (total <= 0) break;
-    double x = CounterRng::unit(rng.words(dart, 0, 0, 1)[0]) * total;
-    size_t hit = pieces.size();
-    double t = 0;
-    for (size_t k = 0; k < pieces.size() && hit == pieces.size(); ++k)
-      for (auto [u, v] : pieces[k].uncovered) {
-        if (x <= v - u) {
-          hit = k, t = std::min(u + x, v);
-          break;
-        }
-        x -= v - u;
-      }
-    if (hit == pieces.size()) break;  // round-off at the very end of the last interval
-    add(pieces[hit].a + t * pieces[hit].dir, CellKind::Edge, pieces[hit].inward, {line_of_piece[hit]});
-  }
+  saturate_pieces(pieces, rng, crumb, [&](size_t k, Vec3 p) {
+    add(p, CellKind::Edge, pieces[k].inward, {line_of_piece[k]});
+  });
   return out;
 }
 

@@ -24,9 +24,25 @@ struct ProtectionSeeds {
   std::vector<Vec3> inward;
 };
 
-// Removes from the parameter intervals `uncovered` (arc length along a + t dir, dir of unit
-// length; sorted, disjoint) the points within `radius` of p.
-void remove_disk(std::vector<std::pair<double, double>>& uncovered, Vec3 a, Vec3 dir, Vec3 p, double radius);
+class CounterRng;
+
+// A straight piece of a protected curve and the parts of it no protection disk covers yet, as
+// sorted, disjoint parameter intervals (arc length from a; dir has unit length).
+struct LinePiece {
+  Vec3 a, dir;
+  double length;
+  Vec3 inward;  // into the domain (or a region) from the piece
+  std::vector<std::pair<double, double>> uncovered;
+};
+
+// Removes from the piece the points within `radius` of p.
+void remove_disk(LinePiece& piece, Vec3 p, double radius);
+
+// 1D random sequential addition to saturation: each dart is uniform on the still uncovered part
+// of all pieces, so it is always accepted (the law of MPS); accept(piece, point) must remove its
+// disk. Gaps of at most `crumb` are left: maximal up to round-off of the coordinates.
+void saturate_pieces(std::vector<LinePiece>& pieces, const CounterRng& rng, double crumb,
+                     const std::function<void(size_t, Vec3)>& accept);
 
 // A pure function of (domain, r, seed). Seeds of one run keep r_e from each other; seeds of
 // different runs may be closer where runs meet at a small angle (the paper's sharp edges).

@@ -56,15 +56,6 @@ class SeedHash {
   std::unordered_map<uint64_t, std::vector<Vec3>> cells_;
 };
 
-struct Segment {
-  Vec3 a, dir;
-  double length;
-  Vec3 inward;  // into a region, off the interface
-  std::vector<std::pair<double, double>> uncovered;
-};
-
-void cover(Segment& s, Vec3 p, double radius) { remove_disk(s.uncovered, s.a, s.dir, p, radius); }
-
 // A direction from p into some region (p just off it in that direction is strictly inside one).
 Vec3 into_a_region(const RegionSet& set, Vec3 p, const std::vector<Vec3>& candidates, double step) {
   for (Vec3 c : candidates)
@@ -106,7 +97,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   // Interface curves: edges of an interface where it meets another interface or the outer
   // boundary (the facets around the edge are not all of one region pair), or bends within one
   // interface by more than the feature angle.
-  std::vector<Segment> segments;
+  std::vector<LinePiece> segments;
   std::map<int32_t, int> curve_degree;
   for (auto& [edge, facets] : facets_at_edge) {
     std::sort(facets.begin(), facets.end());
@@ -145,10 +136,10 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
     hash.add(p);
     if (kind == CellKind::InterfaceEdge)  // the curves are sampled before the facets
-      for (Segment& s : segments) cover(s, p, rc);
+      for (LinePiece& s : segments) remove_disk(s, p, rc);
   };
   for (Vec3 p : prior)
-    for (Segment& s : segments) cover(s, p, rc);
+    for (LinePiece& s : segments) remove_disk(s, p, rc);
   // Corners: ends of curves and vertices where more than two curve edges meet, a seed each just
   // off the vertex inside a region (ties between mirror-symmetric corners stay undecidable
   // otherwise, as for reflex corners).
@@ -167,29 +158,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   }
   // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp).
   const double crumb = 1e-12 * std::max(r, set.boundary.bounds.diagonal());
-  for (uint64_t dart = 0;; ++dart) {
-    double total = 0;
-    for (Segment& s : segments) {
-      std::erase_if(s.uncovered, [&](const auto& iv) { return iv.second - iv.first <= crumb; });
-      for (auto [u, v] : s.uncovered) total += v - u;
-    }
-    if (total <= 0) break;
-    double x = CounterRng::unit(rng.words(dart, 0, 0, 1)[0]) * total;
-    Segment* hit = nullptr;
-    double t = 0;
-    for (Segment& s : segments) {
-      for (auto [u, v] : s.uncovered) {
-        if (x <= v - u) {
-          hit = &s, t = std::min(u + x, v);
-          break;
-        }
-        x -= v - u;
-      }
-      if (hit) break;
-    }
-    if (!hit) break;
-    add(hit->a + t * hit->dir, CellKind::InterfaceEdge, hit->inward);
-  }
+  saturate_pieces(segments, rng, crumb, [&](size_t k, Vec3 p) { add(p, CellKind::InterfaceEdge, segments[k].inward); });
   if (stats) stats->edge_seeds = out.points.size();
   // Faces: maximal Poisson-disk sampling on the interface triangles with disks of r/sqrt(2)
   // (Ebeida et al. 2012 in 2D): darts uniform by area over the sub-triangles not yet inside one
