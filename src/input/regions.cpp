@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "common/union_find.hpp"
+#include "input/conform.hpp"
 #include "input/regions.hpp"
 #include "froth/error.hpp"
 
@@ -53,6 +54,11 @@ class RegionBuilder {
   Domain build() {
     unique_triangles();
     pair_sides();
+    if (close_slivers()) {
+      RegionBuilder again(std::move(V_), std::move(occ_), std::move(body_names_), std::move(file_), options_);
+      again.closed_slivers_ = true;
+      return again.build();
+    }
     assign_parts();
     auto set = std::make_shared<RegionSet>();
     group_facets(*set);
@@ -116,6 +122,16 @@ class RegionBuilder {
         by_angle.push_back({std::atan2(dot(w, e2) / norm(e2), dot(w, e1) / norm(e1)), u});
       }
       std::sort(by_angle.begin(), by_angle.end());
+      // Faces meant to coincide (two solids' sides of one face, rounded apart) are a rounding
+      // error apart in angle: neighbours that close are put in order by the exact test.
+      for (size_t k = 0; by_angle.size() > 2 && k < by_angle.size(); ++k) {
+        auto &u = by_angle[k], &w = by_angle[(k + 1) % by_angle.size()];
+        const double gap = w.first - u.first;  // negative from the last to the first
+        if (gap + (gap < 0 ? 2 * M_PI : 0) > 1e-6) continue;
+        const auto far = [&](int32_t t) { return to_cgal(V_[tri_[t][0] + tri_[t][1] + tri_[t][2] - a - b]); };
+        if (CGAL::orientation(to_cgal(V_[a]), to_cgal(V_[b]), far(u.second), far(w.second)) == CGAL::NEGATIVE)
+          std::swap(u.second, w.second);
+      }
       // The front of a triangle running a -> b faces the way the angle grows about a -> b.
       for (size_t k = 0; k < by_angle.size(); ++k) {
         const int32_t u = by_angle[k].second, w = by_angle[(k + 1) % by_angle.size()].second;
@@ -124,6 +140,53 @@ class RegionBuilder {
         parts_.unite(u_side, w_side);
       }
     }
+  }
+
+  // Two solids meant to touch along a face that is not exactly planar (a tilted face's corners
+  // rounded to doubles) and triangulated differently on each side: the two surfaces bulge apart
+  // by rounding errors, leaving a sliver of space inside both or inside neither, bounded by the
+  // two solids' triangles alone. Such a part, thinner than 1e-9 of the solids' size, is closed:
+  // the later solid takes the earlier one's triangles there (listed the other way round), as if
+  // it had been given them. Returns whether any was (the sides are then paired anew).
+  bool close_slivers() {
+    if (closed_slivers_) return false;
+    std::map<int32_t, std::vector<int32_t>> sides_of_part;
+    for (size_t s = 0; s < material_.size(); ++s) sides_of_part[parts_.find(int32_t(s))].push_back(int32_t(s));
+    const double diag = norm(bounds().size());
+    std::vector<uint8_t> drop(occ_.size(), 0);
+    std::vector<Occurrence> taken;
+    for (const auto& [root, sides] : sides_of_part) {
+      double volume6 = 0, area = 0;
+      bool one_solid_each = true;  // each triangle given by one input solid
+      std::vector<std::pair<int32_t, int32_t>> by_body;  // (body, occurrence) of each triangle
+      for (int32_t side : sides) {
+        const Tri t = oriented_out_of(side);
+        volume6 += dot(V_[t[0]], cross(V_[t[1]], V_[t[2]]));
+        area += std::sqrt(area2(side)) / 2;
+        const int32_t u = side / 2, behind = occ_of_side_[size_t(2 * u)], front = occ_of_side_[size_t(2 * u + 1)];
+        const int32_t o = behind >= 0 ? behind : front;
+        one_solid_each &= (behind >= 0) != (front >= 0) && occ_[size_t(o)].body >= 0;
+        if (one_solid_each) by_body.push_back({occ_[size_t(o)].body, o});
+      }
+      if (!one_solid_each || volume6 <= 0 || volume6 / 6 > 1e-9 * diag * area) continue;
+      std::vector<int32_t> bodies;
+      for (const auto& [b, o] : by_body) bodies.push_back(b);
+      std::sort(bodies.begin(), bodies.end());
+      bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+      if (bodies.size() != 2) continue;
+      std::string patch;
+      for (const auto& [b, o] : by_body)
+        if (b == bodies[1]) drop[size_t(o)] = 1, patch = occ_[size_t(o)].patch;
+      for (const auto& [b, o] : by_body)
+        if (b == bodies[0]) taken.push_back({reversed(occ_[size_t(o)].v), bodies[1], patch});
+    }
+    if (taken.empty()) return false;
+    std::vector<Occurrence> kept;
+    for (size_t k = 0; k < occ_.size(); ++k)
+      if (!drop[k]) kept.push_back(std::move(occ_[k]));
+    kept.insert(kept.end(), taken.begin(), taken.end());
+    occ_ = std::move(kept);
+    return true;
   }
 
   // Each part of space (component of sides) to a region, or -1 (outside every region).
@@ -398,6 +461,7 @@ class RegionBuilder {
   }
 
   static constexpr int32_t kUnknownBody = -2;
+  bool closed_slivers_ = false;
   std::vector<Vec3> V_;
   std::vector<Occurrence> occ_;
   std::vector<std::string> body_names_;
@@ -448,23 +512,34 @@ Domain regions_from_shared_triangles(const TriangleSurface& s, const std::string
 
 Domain domain_from_regions(const std::vector<TriangleSurface>& surfaces, const std::vector<std::string>& names,
                            const DomainOptions& options) {
+  // Each solid alone first: its own defects are named with its own triangles, and its shells
+  // are oriented by nesting (a cavity's into the cavity).
+  std::vector<TriangleSurface> solids;
+  for (size_t k = 0; k < surfaces.size(); ++k) {
+    solids.push_back(domain_from_surface(surfaces[k], names[k], options).surface);
+    solids.back().patch_names = surfaces[k].patch_names;
+    solids.back().triangle_patch.clear();
+    for (size_t t = 0; t < solids.back().triangles.size(); ++t) {
+      const std::string patch = patch_of(surfaces[k], t);
+      solids.back().triangle_patch.push_back(patch.empty() ? -1 : surfaces[k].triangle_patch[t]);
+    }
+  }
+  conform_touching_solids(solids);
   std::map<std::array<double, 3>, int32_t> vertex_id;
   std::vector<Vec3> V;
   std::vector<Occurrence> occ;
-  for (size_t k = 0; k < surfaces.size(); ++k) {
-    // Each solid alone first: its own defects are named with its own triangles, and its shells
-    // are oriented by nesting (a cavity's into the cavity).
-    const Domain d = domain_from_surface(surfaces[k], names[k], options);
-    std::vector<int32_t> id(d.surface.vertices.size());
+  for (size_t k = 0; k < solids.size(); ++k) {
+    const TriangleSurface& s = solids[k];
+    std::vector<int32_t> id(s.vertices.size());
     for (size_t v = 0; v < id.size(); ++v) {
-      const Vec3 p = d.surface.vertices[v];
+      const Vec3 p = s.vertices[v];
       const auto [it, added] = vertex_id.try_emplace({p.x, p.y, p.z}, int32_t(V.size()));
       if (added) V.push_back(p);
       id[v] = it->second;
     }
-    for (size_t t = 0; t < d.surface.triangles.size(); ++t) {
-      const Tri& tri = d.surface.triangles[t];
-      occ.push_back({{id[tri[0]], id[tri[1]], id[tri[2]]}, int32_t(k), patch_of(surfaces[k], t)});
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+      const Tri& tri = s.triangles[t];
+      occ.push_back({{id[tri[0]], id[tri[1]], id[tri[2]]}, int32_t(k), patch_of(s, t)});
     }
   }
   return RegionBuilder(std::move(V), std::move(occ), names, "", options).build();

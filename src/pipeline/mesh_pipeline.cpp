@@ -256,9 +256,20 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   for (size_t* c : count_of) *c = 0;
   for (CellKind k : mesh.kinds) ++*count_of[size_t(k)];
   run.split_seeds = run.extra_pieces = 0;
-  for (size_t c = 0; c < mesh.cell_count(); ++c) {
-    run.extra_pieces += mesh.piece_of(c) > 0;
-    run.split_seeds += mesh.piece_of(c) == 1;
+  if (mesh.region.empty()) {
+    for (size_t c = 0; c < mesh.cell_count(); ++c) {
+      run.extra_pieces += mesh.piece_of(c) > 0;
+      run.split_seeds += mesh.piece_of(c) == 1;
+    }
+  } else {
+    // A seed's cell cut by an interface is one cell per region by design; only pieces within
+    // one region are a wall or gap thinner than r.
+    std::map<std::pair<std::array<double, 3>, int32_t>, uint32_t> pieces;
+    for (size_t c = 0; c < mesh.cell_count(); ++c) {
+      const uint32_t n = ++pieces[{{mesh.seeds[c].x, mesh.seeds[c].y, mesh.seeds[c].z}, mesh.region[c]}];
+      run.extra_pieces += n > 1;
+      run.split_seeds += n == 2;
+    }
   }
   run.border_area = border_area(mesh);
   if (domain.regions) measure_regions(*domain.regions, mesh, run);

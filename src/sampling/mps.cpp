@@ -159,6 +159,7 @@ void Sampler::protect() {
     InterfaceProtectionStats is;
     const ProtectionSeeds q =
         protect_interfaces(*domain_.regions, r_, seed_, p.points, domain_.features.angle_degrees, &is);
+    for (size_t k : is.prior_on_curves) p.kinds[k] = CellKind::InterfaceEdge;
     p.points.insert(p.points.end(), q.points.begin(), q.points.end());
     p.kinds.insert(p.kinds.end(), q.kinds.begin(), q.kinds.end());
     p.inward.insert(p.inward.end(), q.inward.begin(), q.inward.end());

@@ -64,6 +64,37 @@ Vec3 into_a_region(const RegionSet& set, Vec3 p, const std::vector<Vec3>& candid
   return {};
 }
 
+// The points (of `seeds`) within 1e-6 r of a segment (reflex corner seeds sit 1e-7 r off their
+// vertex), found by cubes of side r around points every r/2 along each segment.
+std::vector<size_t> seeds_on(const std::vector<LinePiece>& segments, const std::vector<Vec3>& seeds, double r) {
+  auto cube = [r](Vec3 p) {
+    return std::array<int64_t, 3>{int64_t(std::floor(p.x / r)), int64_t(std::floor(p.y / r)), int64_t(std::floor(p.z / r))};
+  };
+  std::map<std::array<int64_t, 3>, std::vector<size_t>> by_cube;
+  for (size_t k = 0; k < seeds.size(); ++k) by_cube[cube(seeds[k])].push_back(k);
+  std::vector<uint8_t> on(seeds.size(), 0);
+  for (const LinePiece& s : segments)
+    for (double t = 0;; t = std::min(s.length, t + r / 2)) {
+      const auto c = cube(s.a + t * s.dir);
+      for (int64_t dz = -1; dz <= 1; ++dz)
+        for (int64_t dy = -1; dy <= 1; ++dy)
+          for (int64_t dx = -1; dx <= 1; ++dx) {
+            const auto it = by_cube.find({c[0] + dx, c[1] + dy, c[2] + dz});
+            if (it == by_cube.end()) continue;
+            for (size_t k : it->second) {
+              const Vec3 w = seeds[k] - s.a;
+              const double along = std::clamp(dot(w, s.dir), 0.0, s.length);
+              on[k] |= norm(w - along * s.dir) <= 1e-6 * r;
+            }
+          }
+      if (t == s.length) break;
+    }
+  std::vector<size_t> out;
+  for (size_t k = 0; k < seeds.size(); ++k)
+    if (on[k]) out.push_back(k);
+  return out;
+}
+
 }  // namespace
 
 ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed, const std::vector<Vec3>& prior,
@@ -132,6 +163,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   }
   SeedHash hash(r);
   for (Vec3 p : prior) hash.add(p);
+  if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
   auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
     hash.add(p);

@@ -19,6 +19,9 @@ namespace froth {
 struct InterfaceProtectionStats {
   size_t edge_seeds = 0, face_seeds = 0;
   size_t uncovered = 0;  // sub-triangles no disk covers at the finest level (0: maximal)
+  // Indices into `prior` of the seeds on an interface curve (where it is a reflex edge of the
+  // outer boundary too): they are that curve's seeds there, so their cells are interface cells.
+  std::vector<size_t> prior_on_curves;
 };
 
 // A pure function of (regions, r, seed). Seeds keep their radius (r/2 on curves, r/sqrt(2) on

@@ -1,4 +1,5 @@
-"""Multi-region solids (issue 24), read back by VTK: two cubes sharing a face, a sphere inclusion in a
+"""Multi-region solids (issue 24), read back by VTK: two cubes sharing a face (triangulated alike, and
+differently on each side, also turned off the axes), a block on a larger plate, a sphere inclusion in a
 box, a three-layer laminate, a T-junction where three regions meet along an edge, the five
 multi_region_heater solids and joined_tetrahedra.obj, at r = 1/20 and 1/40 of the diagonal and 3
 seeds. Checked on each mesh:
@@ -62,6 +63,28 @@ def t_junction(work):
     path = os.path.join(work, "slab.obj")
     write_obj(path, slab)
     return [path, "box:0,0,0,1,1,1", "box:1,0,0,2,1,1"]
+
+
+def box_other_diagonals(lo, hi):
+    """A box whose faces are split along the other diagonals than box:... splits them."""
+    v = [(hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1], hi[2] if c & 4 else lo[2]) for c in range(8)]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (1, 3, 7, 5), (0, 4, 6, 2)]
+    return [(v[q[0]], v[q[1]], v[q[3]]) for q in quads] + [(v[q[1]], v[q[2]], v[q[3]]) for q in quads]
+
+
+def differently_triangulated(work, tilt):
+    """Two unit cubes sharing the face x = 1, each with its own diagonals there; with `tilt`, both
+    turned about an axis off the coordinate axes, so that the points the corefinement adds are
+    rounded off the tilted planes."""
+    a, b = box_triangles((0, 0, 0), (1, 1, 1)), box_other_diagonals((1, 0, 0), (2, 1, 1))
+    if tilt:
+        c, s = math.cos(0.4), math.sin(0.4)
+        turn = lambda p: (c * p[0] - s * p[1], s * c * p[0] + c * c * p[1] - s * p[2], s * s * p[0] + s * c * p[1] + c * p[2])
+        a, b = [tuple(turn(p) for p in t) for t in a], [tuple(turn(p) for p in t) for t in b]
+    paths = [os.path.join(work, f"cube_{n}{'_tilted' if tilt else ''}.obj") for n in "ab"]
+    write_obj(paths[0], a)
+    write_obj(paths[1], b)
+    return paths
 
 
 def kinds_and_regions(grid):
@@ -164,6 +187,9 @@ def check_mesh(name, inputs, diag, fraction, seed, work, curved):
 with tempfile.TemporaryDirectory() as work:
     cases = [
         ("two cubes", ["box:0,0,0,1,1,1", "box:1,0,0,2,1,1"], math.sqrt(6), False),
+        ("two cubes, other diagonals", differently_triangulated(work, False), math.sqrt(6), False),
+        ("two tilted cubes, other diagonals", differently_triangulated(work, True), math.sqrt(6), False),
+        ("a block on a plate", ["box:0,0,0,2,2,0.5", "box:0.5,0.7,0.5,1.3,1.4,1"], 3.0, False),
         ("sphere in a box", ["box:-1.5,-1.5,-1.5,1.5,1.5,1.5", os.path.join(MODELS, "unit_sphere.STL")],
          math.sqrt(27), True),
         ("laminate", ["box:0,0,0,1,1,0.3", "box:0,0,0.3,1,1,0.6", "box:0,0,0.6,1,1,1"], math.sqrt(3), False),
