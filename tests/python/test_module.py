@@ -106,9 +106,12 @@ def test_views_outlive_the_mesh_object():
 
 
 def test_regions_match_the_command_line_and_read_back(tmp_path):
-    boxes = [BOX, "box:1,0,0,2,1,1", "box:0,0,1,2,1,1.5"]  # not one face shared alike: the third spans both
-    with pytest.raises(froth.InvalidInputError):
-        froth.mesh(boxes, r=0.2)
+    with pytest.raises(froth.InvalidInputError):  # overlapping solids
+        froth.mesh([BOX, "box:0.5,0.2,0.2,1.5,0.8,0.8"], r=0.2)
+    # The third box's bottom spans both tops, triangulated otherwise: made to conform.
+    spanned = froth.mesh([BOX, "box:1,0,0,2,1,1", "box:0,0,1,2,1,1.5"], r=0.2)
+    assert spanned.region_names == ["box_0", "box_1", "box_2"]
+    assert abs(spanned.cell_data["volume"].sum() - 3.0) < 1e-12
     boxes = [BOX, "box:1,0,0,2,1,1"]
     mesh = froth.mesh(boxes, r=0.2, seed=4)
     assert mesh.region_names == ["box_0", "box_1"]
