@@ -177,7 +177,7 @@ int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
   std::vector<std::string> pieces;
   for (int k = 0; k < comm.size(); ++k) pieces.push_back(fmt::format("{}/{}_{}.vtu", stem, stem, k));
   try {
-    froth::write_pvtu(pieces, opt.quality, output);
+    froth::write_pvtu(pieces, opt.quality, domain.regions != nullptr, output);
   } catch (const froth::Error&) {
     for (const std::string& p : pieces) std::filesystem::remove(output.parent_path() / p);  // no .pvtu, no pieces
     throw;

@@ -55,8 +55,10 @@ void write_boundary_vtu(const PolyMesh& mesh, const std::filesystem::path& path)
 
 // The parallel VTU (.pvtu) that gathers the pieces of a partitioned run (froth/partition.hpp),
 // each written by write_vtu; `pieces` are their paths relative to the .pvtu's folder. The pieces
-// must all have the per-cell quality arrays or none.
-void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const std::filesystem::path& path);
+// must all have the per-cell quality arrays or none, and the `region` array (a multi-region
+// solid's) or none.
+void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, bool with_regions,
+                const std::filesystem::path& path);
 
 // A polyhedral VTU (any VTK writer: ascii, base64 or appended raw data, zlib-compressed or not)
 // as a mesh: cells must be VTK_POLYHEDRON. Faces shared by two cells become interior faces;

@@ -345,7 +345,8 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
   });
 }
 
-void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const std::filesystem::path& path) {
+void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, bool with_regions,
+                const std::filesystem::path& path) {
   std::ostringstream xml;
   xml << "<?xml version=\"1.0\"?>\n"
       << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
@@ -354,6 +355,7 @@ void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, const
       << "<PCellData>\n<PDataArray type=\"Float64\" Name=\"seed\" NumberOfComponents=\"3\"/>\n"
       << "<PDataArray type=\"Int32\" Name=\"kind\"/>\n<PDataArray type=\"Float64\" Name=\"volume\"/>\n"
       << "<PDataArray type=\"Int32\" Name=\"piece\"/>\n"
+      << (with_regions ? "<PDataArray type=\"Int32\" Name=\"region\"/>\n" : "")
       << "<PDataArray type=\"Float64\" Name=\"center\" NumberOfComponents=\"3\"/>\n"
       << "<PDataArray type=\"Float64\" Name=\"radius\"/>\n";
   if (with_quality)

@@ -353,8 +353,6 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   PartitionReport& part = partition ? *partition : local_part;
   if (opt.convex)
     fail(ErrorKind::Usage, "--convex is not available with --partition: a cut carries into cells on other ranks");
-  if (domain.regions)
-    fail(ErrorKind::Usage, "--partition is not available for a multi-region solid yet: mesh it serially");
   start_run(domain, opt, run, 1.0 / comm.size());
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);

@@ -173,6 +173,8 @@ PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& othe
   out.seeds.assign(m.seeds.begin() + begin, m.seeds.begin() + end);
   out.kinds.assign(m.kinds.begin() + begin, m.kinds.begin() + end);
   if (!m.piece.empty()) out.piece.assign(m.piece.begin() + begin, m.piece.begin() + end);
+  if (!m.region.empty()) out.region.assign(m.region.begin() + begin, m.region.begin() + end);
+  out.region_names = m.region_names;
   if (!m.radii.empty()) {
     out.radii.assign(m.radii.begin() + begin, m.radii.begin() + end);
     for (size_t c = begin; c < end; ++c) out.near_graded.push_back(graded_near(m, c));  // the ring knows every neighbour
@@ -273,6 +275,11 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
       out.put(mine.without_kernel), out.put(mine.split_seeds), out.put(mine.extra_pieces);
   out.put(mine.volume_sum), out.put(mine.border_area), out.put(mine.star_violation), out.put(mine.total_seconds),
       out.put(mine.peak_rss_bytes), out.put(mine.weld_aspect_shift), out.put(mine.weld_dihedral_shift);
+  // A multi-region solid's counts per region and interface (an interface face joins two parts of
+  // one seed's cell, which a rank holds together: each is counted on one rank).
+  out.put(mine.interface_cells);
+  for (const RunReport::Region& r : mine.regions) out.put(r.cells), out.put(r.volume);
+  for (const RunReport::Interface& i : mine.interfaces) out.put(i.from_a), out.put(i.from_b);
   out.put(uint64_t(mine.stages.size()));
   for (const StageTiming& s : mine.stages) out.put(s.seconds), out.put(s.peak_rss_bytes);
   out.put(bool(mine.welding));
@@ -290,6 +297,9 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
   run.volume_sum = run.border_area = run.star_violation = run.total_seconds = 0;
   run.peak_rss_bytes = 0;
   run.weld_aspect_shift = run.weld_dihedral_shift = 0;
+  run.interface_cells = 0;
+  for (RunReport::Region& r : run.regions) r.cells = 0, r.volume = 0;
+  for (RunReport::Interface& i : run.interfaces) i.from_a = i.from_b = 0;
   for (StageTiming& s : run.stages) s.seconds = 0, s.peak_rss_bytes = 0;
   std::optional<WeldStats> weld;
   std::optional<QualityReport> quality[2];
@@ -312,6 +322,20 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
     run.weld_aspect_shift = std::max(run.weld_aspect_shift, aspect_shift);
     run.weld_dihedral_shift = std::max(run.weld_dihedral_shift, dihedral_shift);
     sum.rank_seconds.push_back(seconds), sum.rank_peak_rss.push_back(peak);
+    size_t interface_cells = 0;
+    in.get(interface_cells);
+    run.interface_cells += interface_cells;
+    for (RunReport::Region& r : run.regions) {
+      size_t cells = 0;
+      double volume = 0;
+      in.get(cells), in.get(volume);
+      r.cells += cells, r.volume += volume;
+    }
+    for (RunReport::Interface& i : run.interfaces) {
+      double a = 0, b = 0;
+      in.get(a), in.get(b);
+      i.from_a += a, i.from_b += b;
+    }
     uint64_t stages = 0;
     in.get(stages);
     if (stages != run.stages.size()) fail(ErrorKind::Internal, "the ranks ran different stages");

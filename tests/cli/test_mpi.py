@@ -2,8 +2,9 @@
 - `mpirun -np K froth ensemble` for K = 1, 2, 3 writes the same member files, byte for byte, as one
   process; ranks share out the members.
 - `mpirun -np K froth mesh --partition` for K = 1, 2, 3 writes a .pvtu whose cells, read back by
-  VTK and sorted by seed, are the serial mesh's: same seeds, kinds, volumes and face vertex
-  coordinates, bit for bit; too many ranks for the grid is a usage error that leaves no file."""
+  VTK and sorted by seed (region and piece), are the serial mesh's: same seeds, kinds, volumes and
+  face vertex coordinates, bit for bit, also for the five multi_region_heater solids (with the
+  report's counts per region and interface); too many ranks for the grid is a usage error that leaves no file."""
 import json
 import os
 import shutil
@@ -50,6 +51,8 @@ def cells_by_seed(path):
     pts = vtk_to_numpy(g.GetPoints().GetData())
     cd = g.GetCellData()
     seeds, kinds, vols, radii = (vtk_to_numpy(cd.GetArray(n)) for n in ("seed", "kind", "volume", "radius"))
+    # A multi-region solid's seed has a cell per region (and piece) it reaches.
+    part = [vtk_to_numpy(cd.GetArray(n)) if cd.GetArray(n) else np.zeros(len(seeds), int) for n in ("region", "piece")]
     out = {}
     ids = vtk.vtkIdList()
     for c in range(g.GetNumberOfCells()):
@@ -60,19 +63,23 @@ def cells_by_seed(path):
             n = stream[at]
             faces.append(tuple(pts[v].tobytes() for v in stream[at + 1:at + 1 + n]))
             at += n + 1
-        out[seeds[c].tobytes()] = (int(kinds[c]), vols[c].tobytes(), radii[c].tobytes(), tuple(faces))
+        out[(seeds[c].tobytes(), int(part[0][c]), int(part[1][c]))] = (int(kinds[c]), vols[c].tobytes(), radii[c].tobytes(), tuple(faces))
     return out
 
 
 common = ["--threads", "1", "--seed", "5"]
+HEATER = [os.path.join(MODELS, "multi_region_heater", f + ".stl")
+          for f in ("bottomAir", "heater", "leftSolid", "rightSolid", "topAir")]
 # The hollow sphere at diag/20 is graded (its shell is thinner than 2r): the graded sample is
 # drawn whole on every rank, the cells divided.
 for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
-                               ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0866", ["--grade"])):
+                               ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0866", ["--grade"]),
+                               ("heater", HEATER, "0.008", [])):
+    domain = domain if isinstance(domain, list) else [domain]
     serial_path = os.path.join(tmp, f"{name}_serial.vtu")
     serial_report = os.path.join(tmp, f"{name}_serial.json")
-    p = subprocess.run([FROTH, "mesh", domain, "-r", r, *common, *extra, "-o", serial_path, "--report", serial_report],
+    p = subprocess.run([FROTH, "mesh", *domain, "-r", r, *common, *extra, "-o", serial_path, "--report", serial_report],
                        capture_output=True, text=True)
     if p.returncode != 0:
         failures.append(f"serial mesh of {name}: {p.stderr}")
@@ -81,7 +88,7 @@ for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
     for k in (1, 2, 3):
         out = os.path.join(tmp, f"{name}_np{k}.pvtu")
         report = os.path.join(tmp, f"{name}_np{k}.json")
-        p = subprocess.run([MPIRUN, "--oversubscribe", "-np", str(k), FROTH, "mesh", domain, "-r", r, *common, *extra,
+        p = subprocess.run([MPIRUN, "--oversubscribe", "-np", str(k), FROTH, "mesh", *domain, "-r", r, *common, *extra,
                             "--partition", "-o", out, "--report", report], capture_output=True, text=True)
         if p.returncode != 0:
             failures.append(f"{name}: mpirun -np {k} --partition: exit {p.returncode}: {p.stderr[-2000:]}")
@@ -94,8 +101,16 @@ for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
         if bounds[0] != bounds[1]:
             failures.append(f"{name}: mpirun -np {k}: quality bounds {bounds[1]}, serial {bounds[0]}")
         part = json.load(open(report))["partition"]
-        if part["ranks"] != k or sum(x["seeds"] for x in part["per_rank"]) != len(serial):
+        if part["ranks"] != k or sum(x["seeds"] for x in part["per_rank"]) != len({key[0] for key in serial}):
             failures.append(f"{name}: mpirun -np {k}: report {part}")
+        # Per region: the serial cell counts, volumes and interface areas (summed in another order).
+        regions = [json.load(open(f)).get("regions", []) for f in (serial_report, report)]
+        interfaces = [json.load(open(f)).get("interfaces", []) for f in (serial_report, report)]
+        if [x["cells"] for x in regions[0]] != [x["cells"] for x in regions[1]] or any(
+                abs(a["volume"] - b["volume"]) > 1e-12 * b["volume"] for a, b in zip(*regions)) or any(
+                abs(a[s] - b[s]) > 1e-12 * b["area"] for a, b in zip(*interfaces)
+                for s in ("area_from_first", "area_from_second")):
+            failures.append(f"{name}: mpirun -np {k}: regions {regions[1]} {interfaces[1]}, serial {regions[0]} {interfaces[0]}")
         got = cells_by_seed(out)
         if got.keys() != serial.keys():
             failures.append(f"{name}: mpirun -np {k}: {len(got)} cells, serial {len(serial)}, seeds differ")
