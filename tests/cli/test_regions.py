@@ -13,7 +13,8 @@ seeds. Checked on each mesh:
   seed, interface curve seeds r/2 from one another (corners aside);
 - no cell star-shaped failures (report), region names in the VTU's field data.
 Then: OpenFOAM's checkMesh on the heater's polyMesh with a cellZone per region, an ensemble of two
-members, and the bad inputs (overlapping, doubled, differently triangulated touching solids).
+members, the heater in Exodus II, and --grade refused where the union's walls would grade (the
+bad inputs are in test_cli.py).
 Usage: test_regions.py FROTH MODELS_DIR"""
 import collections
 import json
@@ -246,5 +247,12 @@ with tempfile.TemporaryDirectory() as work:
     ens = os.path.join(work, "ens")
     p = froth("ensemble", "box:0,0,0,1,1,1", "box:1,0,0,2,1,1", "-r", "0.2", "--members", "2", "-o", ens, "-q")
     check(p.returncode == 0 and len([f for f in os.listdir(ens) if f.endswith(".vtu")]) == 2, f"ensemble: {p.stderr}")
+
+    # --grade where the union's walls need h < r: interface protection is not graded yet, so a
+    # usage error and no file (rather than interfaces cutting free seeds' cells).
+    out = os.path.join(work, "graded.vtu")
+    p = froth("mesh", "box:0,0,0,1,1,0.05", "box:0,0,0.05,1,1,0.1", "-r", "0.1", "--grade", "-o", out)
+    check(p.returncode == 2 and "does not yet grade interface protection" in p.stderr and not os.path.exists(out),
+          f"--grade on a thin multi-region plate: exit {p.returncode}: {p.stderr}")
 
 sys.exit(summary())
