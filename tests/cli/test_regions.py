@@ -11,7 +11,8 @@ seeds. Checked on each mesh:
   areas above, every interface point lies in an interface seed's cell;
 - empty disks: free seeds r from every seed, interface facet seeds r/sqrt(2) from every other
   seed, interface curve seeds r/2 from one another (corners aside);
-- no cell star-shaped failures (report), region names in the VTU's field data.
+- no cell star-shaped failures (report), region names in the VTU's field data;
+- interface cells within Theorem 1's edge- and vertex-cell bounds times sqrt(2) (4 sqrt(2), 8).
 Then: OpenFOAM's checkMesh on the heater's polyMesh with a cellZone per region, an ensemble of two
 members, the heater in Exodus II, and --grade refused where the union's walls would grade (the
 bad inputs are in test_cli.py).
@@ -182,6 +183,14 @@ def check_mesh(name, inputs, diag, fraction, seed, work, curved):
     check(too_close == 0, f"{what}: {too_close} pairs of seeds closer than their disks")
     check(j["star_shaped"]["cells_not_star_shaped"] == 0, f"{what}: cells not star-shaped: {j['star_shaped']}")
     check(j["sampling"]["interface_uncovered_subtriangles"] == 0, f"{what}: interface sampling not maximal")
+    # Theorem 1 with the paper's extra sqrt(2) for interface seeds (§2.2): a facet seed's cell as
+    # an edge cell's bound, 4 sqrt(2), a curve seed's as a vertex cell's, 4 sqrt(2) sqrt(2) = 8
+    # (feature size at least r and domain angles of at least 90 degrees in these cases, and as
+    # many aspect-ratio factors as the wedges' cones give: 1).
+    cells = j["quality"]["cells"]
+    for k, bound in (("interface_face", 4 * math.sqrt(2)), ("interface_edge", 8.0)):
+        if cells.get(k, {}).get("count"):
+            check(cells[k]["aspect"]["max"] <= bound, f"{what}: {k} aspect {cells[k]['aspect']['max']} above {bound:.3f}")
     return j
 
 
