@@ -42,13 +42,16 @@ template <class Cell>
 void RegionClipper::add_part(const Cell& part, const std::vector<ConvexCell::Names>& names, int32_t region,
                              int pieces, RegionCell& out) {
   local_.resize(part.vertex_count());
+  // A part's own vertices have distinct names: only a later part's are looked up (most cells
+  // lie in one region and have one part).
+  const bool first = out.regions_ == 0;
   for (size_t v = 0; v < part.vertex_count(); ++v) {
     const ConvexCell::Names key = sorted(names[v]);
     const uint64_t h = key.hash();
     int32_t found = -1;
-    for (const auto& [hk, at] : index_)
-      if (hk == h && out.names_[size_t(at)].same_as(key)) {
-        found = at;
+    for (size_t j = 0; !first && j < index_.size(); ++j)
+      if (index_[j].first == h && out.names_[size_t(index_[j].second)].same_as(key)) {
+        found = index_[j].second;
         break;
       }
     if (found < 0) {

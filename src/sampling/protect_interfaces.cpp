@@ -15,34 +15,41 @@ namespace {
 
 Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
 
-// Seeds by cube of side `side`, for "is any seed within d (<= side) of p".
+// Seeds by cube of side twice the largest query radius, for "is any seed within d of p": the
+// ball about p meets only the 2 x 2 x 2 cubes nearest p (8 look-ups rather than 27).
 class SeedHash {
  public:
-  explicit SeedHash(double side) : side_(side) {}
+  explicit SeedHash(double radius) : side_(2 * radius * (1 + 1e-9)) {}
   void add(Vec3 p) { cells_[key(cell(p))].push_back(p); }
   bool any_within(Vec3 p, double d) const {
-    return any_near(p, [&](Vec3 q) { return norm2(q - p) < d * d; });
+    return any_near(p, d, [&](Vec3 q) { return norm2(q - p) < d * d; });
   }
-  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are)?
+  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are, and
+  // then its centroid is within d of the seed)?
   bool covers(const std::array<Vec3, 3>& t, double d) const {
-    return any_near((1.0 / 3) * (t[0] + t[1] + t[2]), [&](Vec3 q) {
+    return any_near((1.0 / 3) * (t[0] + t[1] + t[2]), d, [&](Vec3 q) {
       return norm2(t[0] - q) <= d * d && norm2(t[1] - q) <= d * d && norm2(t[2] - q) <= d * d;
     });
   }
 
  private:
-  // Does a seed in the cubes around p's satisfy `test`?
+  // Does a seed within d of p satisfy `test`? Per axis, p's cube and the neighbour on the side
+  // of p's nearer face.
   template <class Test>
-  bool any_near(Vec3 p, Test&& test) const {
-    const auto c = cell(p);
-    for (int64_t dz = -1; dz <= 1; ++dz)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dx = -1; dx <= 1; ++dx) {
-          const auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
-          if (it == cells_.end()) continue;
-          for (Vec3 q : it->second)
-            if (test(q)) return true;
-        }
+  bool any_near(Vec3 p, double d, Test&& test) const {
+    if (!(d <= side_ / 2)) fail(ErrorKind::Internal, "SeedHash: a query radius above the one it was built for");
+    std::array<int64_t, 3> lo, step;
+    for (int a = 0; a < 3; ++a) {
+      const double x = p[a] / side_, c = std::floor(x);
+      lo[size_t(a)] = int64_t(c), step[size_t(a)] = x - c < 0.5 ? -1 : 1;
+    }
+    for (int k = 0; k < 8; ++k) {
+      const auto it = cells_.find(key({lo[0] + (k & 1 ? step[0] : 0), lo[1] + (k & 2 ? step[1] : 0),
+                                       lo[2] + (k & 4 ? step[2] : 0)}));
+      if (it == cells_.end()) continue;
+      for (Vec3 q : it->second)
+        if (test(q)) return true;
+    }
     return false;
   }
   std::array<int64_t, 3> cell(Vec3 p) const {
@@ -161,7 +168,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     segments.push_back({a, dir, len, in, {{0.0, len}}});
     ++curve_degree[edge.first], ++curve_degree[edge.second];
   }
-  SeedHash hash(r);
+  SeedHash hash(rf * (1 + 1e-12));  // the largest radius asked of it
   for (Vec3 p : prior) hash.add(p);
   if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
   auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
