@@ -3,9 +3,11 @@
 // split faces; faces that overlap in a plane come out with the same sub-triangles on both sides.
 #include <optional>
 
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
-#include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Surface_mesh.h>
 #include <fmt/format.h>
 
@@ -76,6 +78,86 @@ bool boxes_meet(const Box& a, const Box& b) {
   return true;
 }
 
+using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
+using P3 = Inexact::Point_3;
+
+// Do two triangles meet only in what they share (nothing, a vertex, an edge or all three)? Exact
+// predicates on the input's doubles. Were they to meet in more, that is a point other than a
+// shared vertex on one's boundary inside the other: on an edge away from the shared vertices,
+// or on an edge from a shared vertex, which then runs into the other triangle's corner there.
+bool meet_in_shared_only(const std::array<P3, 3>& a, const std::array<P3, 3>& b) {
+  int shared_in_a[3] = {-1, -1, -1};  // per corner of a, the corner of b at the same point
+  int shared = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (a[i] == b[j]) shared_in_a[i] = j, ++shared;
+  if (shared == 3) return true;
+  const Inexact::Triangle_3 ta(a[0], a[1], a[2]), tb(b[0], b[1], b[2]);
+  if (shared == 0) return !CGAL::do_intersect(ta, tb);
+  if (shared == 2) {  // across their common edge, unless coplanar and on one side of it
+    int i = 0;
+    while (shared_in_a[i] >= 0) ++i;
+    int j = 0;
+    while (j == shared_in_a[(i + 1) % 3] || j == shared_in_a[(i + 2) % 3]) ++j;
+    const P3 &p = a[(i + 1) % 3], &q = a[(i + 2) % 3];
+    if (CGAL::orientation(p, q, a[i], b[j]) != CGAL::COPLANAR) return true;
+    return CGAL::coplanar_orientation(p, q, a[i]) != CGAL::coplanar_orientation(p, q, b[j]);
+  }
+  // One shared vertex v: the far edges must miss the other triangle, and no edge from v may run
+  // into the other's corner at v.
+  int i = 0;
+  while (shared_in_a[i] < 0) ++i;
+  const int j = shared_in_a[i];
+  auto far_edge_meets = [](const std::array<P3, 3>& t, int at, const Inexact::Triangle_3& other) {
+    return CGAL::do_intersect(Inexact::Segment_3(t[(at + 1) % 3], t[(at + 2) % 3]), other);
+  };
+  auto edge_enters_corner = [](const P3& v, const P3& w, const P3& c1, const P3& c2) {
+    if (CGAL::orientation(v, c1, c2, w) != CGAL::COPLANAR) return false;
+    const auto s1 = CGAL::coplanar_orientation(v, c1, w), s2 = CGAL::coplanar_orientation(v, c2, w);
+    return (s1 == CGAL::COLLINEAR || s1 == CGAL::coplanar_orientation(v, c1, c2)) &&
+           (s2 == CGAL::COLLINEAR || s2 == CGAL::coplanar_orientation(v, c2, c1));
+  };
+  if (far_edge_meets(a, i, tb) || far_edge_meets(b, j, ta)) return false;
+  for (int k = 1; k <= 2; ++k) {
+    if (edge_enters_corner(a[i], a[(i + k) % 3], b[(j + 1) % 3], b[(j + 2) % 3])) return false;
+    if (edge_enters_corner(b[j], b[(j + k) % 3], a[(i + 1) % 3], a[(i + 2) % 3])) return false;
+  }
+  return true;
+}
+
+// Do the two surfaces meet only in triangles, edges and vertices they share (so that
+// corefinement would change nothing)? Candidate pairs by bounding boxes (closed: touching
+// boxes count).
+bool already_conform(const TriangleSurface& a, const TriangleSurface& b) {
+  using BoxT = CGAL::Box_intersection_d::Box_with_info_d<double, 3, size_t>;
+  auto boxes = [](const TriangleSurface& s) {
+    std::vector<BoxT> out;
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+      CGAL::Bbox_3 bb;
+      for (int32_t v : s.triangles[t]) {
+        const Vec3 p = s.vertices[size_t(v)];
+        bb += CGAL::Bbox_3(p.x, p.y, p.z, p.x, p.y, p.z);
+      }
+      out.emplace_back(bb, t);
+    }
+    return out;
+  };
+  auto corners = [](const TriangleSurface& s, size_t t) {
+    std::array<P3, 3> c;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 p = s.vertices[size_t(s.triangles[t][size_t(k)])];
+      c[size_t(k)] = {p.x, p.y, p.z};
+    }
+    return c;
+  };
+  std::vector<BoxT> ba = boxes(a), bb = boxes(b);
+  bool conform = true;
+  CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(), [&](const BoxT& x, const BoxT& y) {
+    if (conform) conform = meet_in_shared_only(corners(a, x.info()), corners(b, y.info()));
+  });
+  return conform;
+}
+
 }  // namespace
 
 int conform_touching_solids(std::vector<TriangleSurface>& solids) {
@@ -91,12 +173,14 @@ int conform_touching_solids(std::vector<TriangleSurface>& solids) {
   // where three meet): pairs are redone until no surface changes.
   std::vector<uint8_t> changed(n, 1), changed_next(n, 0);
   std::vector<uint8_t> touched(n, 0);
-  int corefined = 0;
+
   for (int pass = 0; pass < 8; ++pass) {
     bool any = false;
     for (size_t i = 0; i < n; ++i)
       for (size_t j = i + 1; j < n; ++j) {
         if (!(changed[i] || changed[j]) || !boxes_meet(box[i], box[j])) continue;
+        // Surfaces that meet only where they share triangles (or not at all) need nothing.
+        if (!touched[i] && !touched[j] && already_conform(solids[i], solids[j])) continue;
         Mesh &a = mesh_of(i), &b = mesh_of(j);
         if (!PMP::do_intersect(a, b)) continue;
         const size_t fa = a.num_faces(), fb = b.num_faces();
@@ -106,7 +190,6 @@ int conform_touching_solids(std::vector<TriangleSurface>& solids) {
           fail(ErrorKind::InvalidInput, fmt::format("solids {} and {} could not be made to conform where they meet: {}",
                                                     i + 1, j + 1, e.what()));
         }
-        if (pass == 0) ++corefined;
         if (a.num_faces() != fa) changed_next[i] = 1, touched[i] = 1, any = true;
         if (b.num_faces() != fb) changed_next[j] = 1, touched[j] = 1, any = true;
       }
@@ -114,9 +197,10 @@ int conform_touching_solids(std::vector<TriangleSurface>& solids) {
     changed.swap(changed_next);
     std::fill(changed_next.begin(), changed_next.end(), 0);
   }
+  int changed_solids = 0;
   for (size_t k = 0; k < n; ++k)
-    if (touched[k]) from_mesh(*mesh[k], solids[k]);
-  return corefined;
+    if (touched[k]) from_mesh(*mesh[k], solids[k]), ++changed_solids;
+  return changed_solids;
 }
 
 }  // namespace froth

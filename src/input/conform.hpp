@@ -13,7 +13,7 @@ namespace froth {
 // touching faces end up with the same triangles, and crossing surfaces with an exact curve
 // where they cross (which the regions then refuse as an overlap). Points made here are rounded
 // to the nearest double; both solids round a shared point alike. A split triangle keeps its
-// patch. Returns how many pairs were corefined; the solids must each be valid (closed, not
+// patch. Returns how many solids changed; the solids must each be valid (closed, not
 // self-intersecting, outward).
 int conform_touching_solids(std::vector<TriangleSurface>& solids);
 
