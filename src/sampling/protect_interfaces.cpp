@@ -217,12 +217,14 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     into.push_back({{a, ab, ca}, s.facet}), into.push_back({{ab, b, bc}, s.facet});
     into.push_back({{ca, bc, c}, s.facet}), into.push_back({{ab, bc, ca}, s.facet});
   };
+  // Starting sub-triangles no longer than the disks' radius: finer ones only multiply the
+  // level-0 darts and cover tests.
   for (const Tri& t : tris) {
     std::vector<Sub> work{{t.p, t.facet}};
     while (!work.empty()) {
       Sub s = work.back();
       work.pop_back();
-      if (longest(s.p) > 0.5 * rf) split4(s, work);
+      if (longest(s.p) > rf) split4(s, work);
       else active.push_back(s);
     }
   }
