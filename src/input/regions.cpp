@@ -128,7 +128,8 @@ class RegionBuilder {
         auto &u = by_angle[k], &w = by_angle[(k + 1) % by_angle.size()];
         const double gap = w.first - u.first;  // negative from the last to the first
         if (gap + (gap < 0 ? 2 * M_PI : 0) > 1e-6) continue;
-        const auto far = [&](int32_t t) { return to_cgal(V_[tri_[t][0] + tri_[t][1] + tri_[t][2] - a - b]); };
+        const int32_t ends = a + b;  // clang 14 cannot capture structured bindings
+        const auto far = [&](int32_t t) { return to_cgal(V_[tri_[t][0] + tri_[t][1] + tri_[t][2] - ends]); };
         if (CGAL::orientation(to_cgal(V_[a]), to_cgal(V_[b]), far(u.second), far(w.second)) == CGAL::NEGATIVE)
           std::swap(u.second, w.second);
       }

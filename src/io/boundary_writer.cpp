@@ -19,8 +19,6 @@ void write_boundary_vtu(const PolyMesh& m, const std::filesystem::path& path) {
     out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
            "header_type=\"UInt64\">\n<UnstructuredGrid>\n<FieldData>\n";
     // Patch names: VTK's ascii String array, each name's bytes then a 0.
-    size_t chars = 0;
-    for (const std::string& n : names) chars += n.size() + 1;
     out << fmt::format("<Array type=\"String\" Name=\"patch_names\" NumberOfTuples=\"{}\" format=\"ascii\">\n", names.size());
     for (const std::string& n : names) {
       for (unsigned char ch : n) out << int(ch) << ' ';
