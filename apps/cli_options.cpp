@@ -63,7 +63,7 @@ froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain
   froth::MeshOptions opt;
   opt.r = a.r;
   opt.seed = a.seed;
-  opt.weld = a.weld >= 0 ? a.weld : froth::default_weld_tolerance(a.r, domain.bounds.diagonal(), a.convex || domain.regions);
+  opt.weld = a.weld >= 0 ? a.weld : froth::default_weld_tolerance(a.r, domain.bounds.diagonal(), a.convex);
   opt.convex = a.convex;
   opt.threads = a.threads;
   opt.quality = !a.no_quality;

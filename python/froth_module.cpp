@@ -51,7 +51,7 @@ froth::MeshOptions mesh_options(const froth::Domain& domain, double r, double ce
   froth::MeshOptions opt;
   opt.r = cells > 0 ? froth::radius_for_cells(domain, cells, seed) : r;
   opt.seed = seed;
-  opt.weld = weld ? *weld : froth::default_weld_tolerance(opt.r, domain.bounds.diagonal(), convex || domain.regions);
+  opt.weld = weld ? *weld : froth::default_weld_tolerance(opt.r, domain.bounds.diagonal(), convex);
   opt.convex = convex;
   opt.threads = threads;
   opt.quality = quality;

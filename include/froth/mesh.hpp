@@ -109,6 +109,9 @@ struct PolyMesh {
   std::vector<std::string> region_names;
   // While cells are assembled only: each face's region.
   std::vector<int32_t> face_region;
+  // Until welding (which keeps interface vertices on their facets, as border ones on theirs):
+  // each face's interface facet (RegionSet's facet numbering), -1 for other faces; empty: none.
+  std::vector<int32_t> face_interface_facet;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }

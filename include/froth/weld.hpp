@@ -29,8 +29,7 @@ struct WeldStats {
 // The default tolerance: 1e-4 of the cells' size, which is r, or the domain's diagonal where r
 // is larger (one cell, or a few, over the whole part: a tolerance from r would then weld away
 // the part's own details). 0 (`unwelded`) for a run that splits cells convex
-// (MeshOptions::convex), whose faces must stay planar, and for a multi-region solid, whose
-// interface vertices must stay on their interface facets.
+// (MeshOptions::convex), whose faces must stay planar.
 inline double default_weld_tolerance(double r, double domain_diagonal, bool unwelded = false) {
   return unwelded ? 0 : 1e-4 * std::min(r, domain_diagonal);
 }
@@ -38,7 +37,9 @@ inline double default_weld_tolerance(double r, double domain_diagonal, bool unwe
 // Welds the mesh in place with tolerance w > 0 (r scales the non-planarity figure). Vertices on
 // the domain's boundary keep their position when merged with others (the one on the most
 // domain planes wins), so border faces stay on their planes wherever they can; other clusters
-// move to their centroid.
+// move to their centroid. A multi-region mesh's interface facets (mesh.face_interface_facet)
+// bind their vertices as border planes do: an interface vertex stays on its facets, and a
+// cluster holding one goes to it, so no cell reaches past the interface into another region.
 // `before_change`, if given, is told the cells welding will change (sorted), before any changes.
 WeldStats weld_mesh(PolyMesh& mesh, double w, double r,
                     const std::function<void(const std::vector<size_t>& cells)>& before_change = {});

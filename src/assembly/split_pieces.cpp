@@ -163,6 +163,7 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
   out.seeds.resize(cells), out.kinds.resize(cells), out.piece.assign(cells, 0);
   out.cell_face_begin.assign(cells + 1, 0);
   out.face_generator.resize(m.face_count());
+  if (regions) out.face_interface_facet.assign(m.face_count(), -1);
   out.face_vertex_begin.resize(m.face_count() + 1);
   out.face_vertices.resize(m.face_vertices.size());
   auto new_generator = [&](int32_t g, int64_t f, size_t c) {
@@ -181,7 +182,9 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
   };
   int64_t face = 0, fv = 0;
   auto copy_face = [&](int64_t f, size_t c) {
-    out.face_generator[size_t(face)] = new_generator(m.face_generator[f], f, c);
+    const int32_t g = m.face_generator[f];
+    if (regions && g < 0 && regions->is_interface(generator_plane(g))) out.face_interface_facet[size_t(face)] = generator_plane(g);
+    out.face_generator[size_t(face)] = new_generator(g, f, c);
     out.face_vertex_begin[size_t(face)] = fv;
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
       out.face_vertices[size_t(fv++)] = m.face_vertices[k];

@@ -164,7 +164,10 @@ struct WeldedCells {
 
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
-  if (!(opt.weld > 0)) return welded;
+  if (!(opt.weld > 0)) {
+    mesh.face_interface_facet.clear();
+    return welded;
+  }
   if (opt.progress) opt.progress("welding", 0);
   // The paper's bounds speak of the mesh before welding. Welding changes few cells: their
   // metrics are taken before it, and the other cells' are the same before and after.
@@ -176,6 +179,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
     for (size_t i = 0; i < cells.size(); ++i) welded.before[i] = cell_verdict(mesh, cells[i]);
   };
   run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, opt.weld, opt.r, measure_before));
+  mesh.face_interface_facet.clear();  // its one reader was welding
   run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
   return welded;
 }

@@ -92,10 +92,6 @@ void check_mesh_options(const Domain& domain, const MeshOptions& opt, double sha
                                        "of their planes, and a convex cell needs planar faces; with --convex the "
                                        "default weld is 0",
                                        opt.weld));
-  if (domain.regions && opt.weld > 0)
-    fail(ErrorKind::Usage, fmt::format("a multi-region solid cannot be welded yet (--weld {:.6g}): a merge would have to "
-                                       "keep every interface vertex on its interface facet; its default weld is 0",
-                                       opt.weld));
   // Squared distances of coordinates and radii must stay far from underflow and overflow.
   const Vec3 size = domain.bounds.size();
   const double extent = std::max({size.x, size.y, size.z});

@@ -23,6 +23,24 @@ void collapsed(const PolyMesh& m, int64_t f, Map&& map, std::vector<int32_t>& ou
   while (out.size() > 1 && out.back() == out.front()) out.pop_back();
 }
 
+// Six times the volume cell c's faces enclose, each fanned from its centroid, with vertex ids
+// mapped by `id` (faces left with fewer than three vertices dropped) and placed by `at`.
+template <class Id, class At>
+double cell_volume6(const PolyMesh& m, size_t c, Id&& id, At&& at, std::vector<int32_t>& face) {
+  double v6 = 0;
+  const Vec3 o = m.seeds[c];
+  for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+    collapsed(m, f, id, face);
+    if (face.size() < 3) continue;
+    Vec3 centroid{};
+    for (int32_t v : face) centroid = centroid + (at(v) - o);
+    centroid = (1.0 / double(face.size())) * centroid;
+    for (size_t k = 0; k < face.size(); ++k)
+      v6 += dot(centroid, cross(at(face[k]) - o, at(face[(k + 1) % face.size()]) - o));
+  }
+  return v6;
+}
+
 // One pass: merges along the edges shorter than w as they are. `edges`: the short edges if known (later passes), else empty and found by a scan of all
 // faces; on return, the edges shorter than w among the faces this pass changed.
 WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges,
@@ -85,16 +103,21 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
   if (before_change) before_change(cells);
 
-  // Border planes of every vertex on a short edge.
+  // Border planes of every vertex on a short edge, and a multi-region solid's interface facets
+  // (one numbering: both are the regions' facets), which bind a vertex the same way.
   std::map<int32_t, std::vector<int32_t>> planes;
   for (auto [u, v] : short_edges) planes[u], planes[v];
   for (int64_t f : member_faces) {
-    if (!is_border_generator(m.face_generator[f])) continue;
+    const int32_t g = m.face_generator[f];
+    const int32_t plane = is_border_generator(g)             ? generator_plane(g)
+                          : m.face_interface_facet.empty() ? -1
+                                                           : m.face_interface_facet[size_t(f)];
+    if (plane < 0) continue;
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
       auto it = planes.find(m.face_vertices[k]);
       if (it == planes.end()) continue;
       auto& p = it->second;
-      if (std::find(p.begin(), p.end(), m.face_generator[f]) == p.end()) p.push_back(m.face_generator[f]);
+      if (std::find(p.begin(), p.end(), plane) == p.end()) p.push_back(plane);
     }
   }
   for (auto& [v, p] : planes) std::sort(p.begin(), p.end());
@@ -112,6 +135,32 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     const std::vector<int32_t>* planes = nullptr;
   };
   std::map<int32_t, Keeper> keeper;
+  // A cluster with a border vertex goes to its keeper, any other to its centroid: worked out
+  // before any point moves, as the points are then renumbered in place.
+  struct Cluster {
+    Vec3 sum{};
+    int count = 0;
+    int32_t keeper = -1;
+    Vec3 to{};
+  };
+  std::map<int32_t, Cluster> clusters;
+  const auto find_clusters = [&] {
+    clusters.clear();
+    for (const auto& [v, p] : planes) {
+      if (refused[v]) continue;
+      Cluster& c = clusters[uf.find(v)];
+      c.sum = c.sum + m.points[v];
+      ++c.count;
+      const Keeper& k = keeper.at(uf.find(v));
+      if (!k.planes->empty()) c.keeper = k.vertex;
+    }
+    for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
+  };
+  // Where a staying vertex goes: its cluster's target, or its own place if it is alone.
+  const auto destination = [&](int32_t root) {
+    const auto it = member[root] ? clusters.find(root) : clusters.end();
+    return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
+  };
   for (;;) {
     uf = UnionFind(m.points.size());
     for (auto [u, v] : short_edges)
@@ -163,6 +212,21 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
           open_cell[i] = !closure.each_once_each_way();
         }
       }
+      // A cell that would close but lose half its volume or more (a piece of a cell smaller
+      // than w, cut off by an interface, flattened onto itself) keeps its vertices too.
+      find_clusters();
+#pragma omp parallel
+      {
+        std::vector<int32_t> face;
+#pragma omp for schedule(dynamic, 64)
+        for (size_t i = 0; i < cells.size(); ++i) {
+          if (open_cell[i]) continue;
+          const size_t c = cells[i];
+          const double before = cell_volume6(m, c, [](int32_t v) { return v; }, [&](int32_t v) { return m.points[v]; }, face);
+          const double after = cell_volume6(m, c, [&](int32_t v) { return member[v] ? root[v] : v; }, destination, face);
+          open_cell[i] = !(after > 0.5 * before);
+        }
+      }
       for (size_t i = 0; i < cells.size(); ++i) {
         if (!open_cell[i]) continue;
         const size_t c = cells[i];
@@ -179,32 +243,10 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     }
   }
   for (size_t v = 0; v < refused.size(); ++v) st.clusters_refused += refused[v] && uf.find(int32_t(v)) == int32_t(v);
+  find_clusters();
 
-  // A cluster with a border vertex goes to its keeper, any other to its centroid: worked out
-  // before any point moves, as the points are then renumbered in place.
-  struct Cluster {
-    Vec3 sum{};
-    int count = 0;
-    int32_t keeper = -1;
-    Vec3 to{};
-  };
-  std::map<int32_t, Cluster> clusters;
-  for (const auto& [v, p] : planes) {
-    if (refused[v]) continue;
-    Cluster& c = clusters[uf.find(v)];
-    c.sum = c.sum + m.points[v];
-    ++c.count;
-    const Keeper& k = keeper.at(uf.find(v));
-    if (!k.planes->empty()) c.keeper = k.vertex;
-  }
-  for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
   // A vertex stays (with a new id) unless welding merged it into another, its cluster's root.
   const auto stays = [&](size_t v) { return !member[v] || uf.find(int32_t(v)) == int32_t(v); };
-  // Where a staying vertex goes: its cluster's target, or its own place if it is alone.
-  const auto destination = [&](int32_t root) {
-    const auto it = member[root] ? clusters.find(root) : clusters.end();
-    return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
-  };
 
   // New points: one per root, in id order; every old point's new id.
   const size_t np = m.points.size();
@@ -261,6 +303,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       while (cell < nc && m.cell_face_begin[cell] == f) m.cell_face_begin[cell++] = face;
       const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
       const int32_t generator = m.face_generator[f];
+      const int32_t facet = m.face_interface_facet.empty() ? -1 : m.face_interface_facet[size_t(f)];
       if (i < member_faces.size() && member_faces[i] == f) {
         const size_t mb = member_begin[i], me = member_begin[i + 1];
         ++i;
@@ -273,11 +316,13 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         m.face_vertex_begin[face] = entry;
         entry += e - b;
       }
+      if (!m.face_interface_facet.empty()) m.face_interface_facet[size_t(face)] = facet;
       m.face_generator[face++] = generator;
     }
     while (cell <= nc) m.cell_face_begin[cell++] = face;
     m.face_vertex_begin[face] = entry;
     m.face_generator.resize(size_t(face));
+    if (!m.face_interface_facet.empty()) m.face_interface_facet.resize(size_t(face));
     m.face_vertex_begin.resize(size_t(face) + 1);
     m.face_vertices.resize(size_t(entry));
   }

@@ -107,6 +107,32 @@ TEST(Weld, BorderVerticesStayOnTheDomain) {
   }
 }
 
+// A multi-region solid's interface binds its vertices as the border does: welding the five
+// heater solids heavily (w = r / 20) keeps each region's volume and each interface's area, seen
+// from either side, to round-off (a vertex off its facet would change both), and the mesh valid.
+TEST(Weld, InterfaceVerticesStayOnTheirFacets) {
+  std::vector<std::string> files;
+  for (const char* name : {"bottomAir", "heater", "leftSolid", "rightSolid", "topAir"})
+    files.push_back(test::model(std::string("multi_region_heater/") + name + ".stl"));
+  const Domain d = load_regions(files);
+  ASSERT_TRUE(d.regions);
+  MeshOptions opt;
+  opt.r = 0.012;
+  opt.weld = 0.05 * opt.r;
+  RunReport run;
+  const PolyMesh m = generate_mesh(d, opt, &run);
+  ASSERT_TRUE(run.welding);
+  EXPECT_GT(run.welding->edges_collapsed, 500u);
+  EXPECT_TRUE(check_mesh(m).ok());
+  ASSERT_EQ(run.regions.size(), 5u);
+  for (const RunReport::Region& r : run.regions) EXPECT_NEAR(r.volume, r.enclosed, 1e-12 * r.enclosed) << r.name;
+  ASSERT_FALSE(run.interfaces.empty());
+  for (const RunReport::Interface& i : run.interfaces) {
+    EXPECT_NEAR(i.from_a, i.area, 1e-12 * i.area) << i.a << " | " << i.b;
+    EXPECT_NEAR(i.from_b, i.area, 1e-12 * i.area) << i.a << " | " << i.b;
+  }
+}
+
 }  // namespace
 }  // namespace froth
 
