@@ -62,7 +62,9 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
   if (!run.regions.empty())
     j["sampling"].update({{"interface_edge_seeds", s.interface_edge_seeds},
                           {"interface_face_seeds", s.interface_face_seeds},
-                          {"interface_uncovered_subtriangles", s.interface_uncovered}});
+                          {"interface_uncovered_subtriangles", s.interface_uncovered},
+                          {"interface_curve_disk_over_h", s.interface_curve_factor},
+                          {"interface_facet_disk_over_h", s.interface_facet_factor}});
   if (run.convex_split.requested) {
     const RunReport::ConvexSplit& cs = run.convex_split;
     j["convex"] = {{"cells_split", cs.cells_split},

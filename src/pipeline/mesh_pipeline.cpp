@@ -108,14 +108,16 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
                                        opt.grading));
   if (!(opt.min_r >= 0) || opt.min_r > opt.r)
     fail(ErrorKind::Usage, fmt::format("--min-r must be in (0, r], got {}", opt.min_r));
-  SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading});
-  // The graded sampler protects reflex edges only; interface seeds at h/2 and h/sqrt(2) are not
-  // built yet, and without them an interface would cut free seeds' cells.
-  if (domain.regions && !h.is_uniform())
-    fail(ErrorKind::Usage, fmt::format("--grade: the walls or gaps of this multi-region solid need h < r (down to {:.3g}), "
-                                       "and froth does not yet grade interface protection; mesh it without --grade, "
-                                       "with r at most the thinnest wall",
-                                       h.smallest()));
+  // A multi-region solid's regions are measured too: a layer thinner than 2r between two
+  // interfaces needs h below it as a wall does, or its cells would reach across it.
+  std::vector<FeatureSize> region_fs;
+  std::vector<SizingField::Measured> regions;
+  if (domain.regions) {
+    region_fs.reserve(domain.regions->size());
+    for (const Domain& solid : domain.regions->solids) region_fs.push_back(measure_feature_size(solid, 2 * opt.r));
+    for (size_t k = 0; k < region_fs.size(); ++k) regions.push_back({&domain.regions->solids[k], &region_fs[k]});
+  }
+  SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading}, regions);
   run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
                 h.cell_ratio,         h.floor_raised};
   run.stages.push_back({"sizing", watch.lap(), peak_rss_bytes()});

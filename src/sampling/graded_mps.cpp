@@ -5,7 +5,7 @@
 
 #include "common/random.hpp"
 #include "common/surface_locator.hpp"
-#include "sampling/protect.hpp"
+#include "sampling/protect_interfaces.hpp"
 
 namespace froth {
 namespace {
@@ -344,16 +344,16 @@ class GradedSampler {
     seeds_.push_back(p), radius_.push_back(radius);
   }
 
-  // Reflex edges first (paper §2.2), at h_e = h/sqrt(2); the free seeds keep h from them.
+  // Reflex edges first (paper §2.2), at h_e = h/sqrt(2), then a multi-region solid's interfaces
+  // (protect_interfaces.hpp); the free seeds keep h from them.
   void protect() {
-    if (d_.convex || d_.reflex_curves.empty()) return;
-    const ProtectionSeeds p = protect_reflex_features(d_, r_, seed_, [&](Vec3 x) { return h_.at(x); });
+    if (!d_.regions && (d_.convex || d_.reflex_curves.empty())) return;
+    const ProtectionSeeds p = protect_boundary_and_interfaces(
+        d_, r_, seed_, s_.stats, [&](Vec3 x) { return h_.at(x); }, h_.lipschitz());
     for (size_t k = 0; k < p.points.size(); ++k) {
       protection_.push_back({int32_t(seeds_.size()), p.kinds[k], p.inward[k]});
       add_seed(p.points[k], h_.at(p.points[k]));
     }
-    s_.stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
-    s_.stats.edge_seeds = p.points.size() - s_.stats.vertex_seeds;
   }
 
   // Seeds numbered by base cube, each cube's in the order they came.

@@ -151,21 +151,7 @@ ActiveCubes Sampler::refine(const ActiveCubes& active, int level, std::optional<
 
 void Sampler::protect() {
   if (!domain_.regions && (domain_.convex || domain_.reflex_curves.empty())) return;
-  ProtectionSeeds p;
-  if (!domain_.convex) p = protect_reflex_features(domain_, r_, seed_);
-  const size_t reflex = p.points.size();
-  if (domain_.regions) {
-    // Interface seeds after the outer boundary's reflex ones, keeping their radii from them.
-    InterfaceProtectionStats is;
-    const ProtectionSeeds q =
-        protect_interfaces(*domain_.regions, r_, seed_, p.points, domain_.features.angle_degrees, &is);
-    for (size_t k : is.prior_on_curves) p.kinds[k] = CellKind::InterfaceEdge;
-    p.points.insert(p.points.end(), q.points.begin(), q.points.end());
-    p.kinds.insert(p.kinds.end(), q.kinds.begin(), q.kinds.end());
-    p.inward.insert(p.inward.end(), q.inward.begin(), q.inward.end());
-    s_.stats.interface_edge_seeds = is.edge_seeds, s_.stats.interface_face_seeds = is.face_seeds;
-    s_.stats.interface_uncovered = is.uncovered;
-  }
+  const ProtectionSeeds p = protect_boundary_and_interfaces(domain_, r_, seed_, s_.stats);
   std::map<int64_t, std::vector<int32_t>> in_cube;  // by index into cube_seed
   for (size_t k = 0; k < p.points.size(); ++k) {
     int i, j, l;
@@ -187,8 +173,6 @@ void Sampler::protect() {
     s_.cube_extra.insert(s_.cube_extra.end(), ids.begin(), ids.end());
     s_.cube_extra_begin.push_back(int32_t(s_.cube_extra.size()));
   }
-  s_.stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
-  s_.stats.edge_seeds = reflex - s_.stats.vertex_seeds;
 }
 
 void Sampler::order_seeds_by_cube() {

@@ -15,29 +15,37 @@ namespace {
 
 Vec3 unit(Vec3 v) { return (1 / norm(v)) * v; }
 
-// Seeds by cube of side twice the largest query radius, for "is any seed within d of p": the
-// ball about p meets only the 2 x 2 x 2 cubes nearest p (8 look-ups rather than 27).
+// Seeds by cube of side twice the largest disk radius, for "is p inside an earlier seed's
+// disk": the disks that can hold p meet only the 2 x 2 x 2 cubes nearest p (8 look-ups, not 27).
 class SeedHash {
  public:
-  explicit SeedHash(double radius) : side_(2 * radius * (1 + 1e-9)) {}
-  void add(Vec3 p) { cells_[key(cell(p))].push_back(p); }
-  bool any_within(Vec3 p, double d) const {
-    return any_near(p, d, [&](Vec3 q) { return norm2(q - p) < d * d; });
+  explicit SeedHash(double largest) : largest_(largest), side_(2 * largest * (1 + 1e-9)) {}
+  void add(Vec3 p, double radius) {
+    if (!(radius <= largest_)) fail(ErrorKind::Internal, "SeedHash: a disk above the radius it was built for");
+    cells_[key(cell(p))].push_back({p, radius});
   }
-  // Is the triangle inside one seed's ball of radius d (a ball is convex: its corners are, and
-  // then its centroid is within d of the seed)?
-  bool covers(const std::array<Vec3, 3>& t, double d) const {
-    return any_near((1.0 / 3) * (t[0] + t[1] + t[2]), d, [&](Vec3 q) {
-      return norm2(t[0] - q) <= d * d && norm2(t[1] - q) <= d * d && norm2(t[2] - q) <= d * d;
+  // Is p inside some disk scaled by `scale` (at most 1 + 1e-12)?
+  bool any_within(Vec3 p, double scale = 1) const {
+    return any_near(p, [&](const Disk& q) { return norm2(q.p - p) < (q.radius * scale) * (q.radius * scale); });
+  }
+  // Is the triangle inside one disk (a disk is convex: its corners are, and then its centroid
+  // is within that disk's radius of its seed)?
+  bool covers(const std::array<Vec3, 3>& t) const {
+    return any_near((1.0 / 3) * (t[0] + t[1] + t[2]), [&](const Disk& q) {
+      const double d2 = q.radius * q.radius;
+      return norm2(t[0] - q.p) <= d2 && norm2(t[1] - q.p) <= d2 && norm2(t[2] - q.p) <= d2;
     });
   }
 
  private:
-  // Does a seed within d of p satisfy `test`? Per axis, p's cube and the neighbour on the side
-  // of p's nearer face.
+  struct Disk {
+    Vec3 p;
+    double radius;
+  };
+  // Does a disk that may reach p satisfy `test`? Per axis, p's cube and the neighbour on the
+  // side of p's nearer face.
   template <class Test>
-  bool any_near(Vec3 p, double d, Test&& test) const {
-    if (!(d <= side_ / 2)) fail(ErrorKind::Internal, "SeedHash: a query radius above the one it was built for");
+  bool any_near(Vec3 p, Test&& test) const {
     std::array<int64_t, 3> lo, step;
     for (int a = 0; a < 3; ++a) {
       const double x = p[a] / side_, c = std::floor(x);
@@ -47,7 +55,7 @@ class SeedHash {
       const auto it = cells_.find(key({lo[0] + (k & 1 ? step[0] : 0), lo[1] + (k & 2 ? step[1] : 0),
                                        lo[2] + (k & 4 ? step[2] : 0)}));
       if (it == cells_.end()) continue;
-      for (Vec3 q : it->second)
+      for (const Disk& q : it->second)
         if (test(q)) return true;
     }
     return false;
@@ -59,9 +67,21 @@ class SeedHash {
     return (uint64_t(c[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full) ^
            (uint64_t(c[2]) * 0x165667B19E3779F9ull);
   }
-  double side_;
-  std::unordered_map<uint64_t, std::vector<Vec3>> cells_;
+  double largest_, side_;
+  std::unordered_map<uint64_t, std::vector<Disk>> cells_;
 };
+
+// The largest alpha in (0, top] with sqrt(c^2 / alpha^2 - 1) sqrt(1 - 2 alpha L) >= 1 + alpha L
+// (interface_factors), by bisection: the left side falls and the right side grows with alpha.
+double largest_factor(double c, double top, double L) {
+  auto holds = [&](double a) { return std::sqrt(c * c / (a * a) - 1) * std::sqrt(std::max(0.0, 1 - 2 * a * L)) >= 1 + a * L; };
+  double lo = 0, hi = top;
+  for (int k = 0; k < 100; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    (holds(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
 
 // A direction from p into some region (p just off it in that direction is strictly inside one).
 Vec3 into_a_region(const RegionSet& set, Vec3 p, const std::vector<Vec3>& candidates, double step) {
@@ -104,10 +124,24 @@ std::vector<size_t> seeds_on(const std::vector<LinePiece>& segments, const std::
 
 }  // namespace
 
+std::array<double, 2> interface_factors(double lipschitz) {
+  if (!(lipschitz > 0)) return {0.5, 1 / std::sqrt(2.0)};
+  // The nodes' float rounding and the bisection's last bit: a little more slope, a little less.
+  const double L = lipschitz * (1 + 1e-6);
+  const double facet = largest_factor(1, 1 / std::sqrt(2.0), L) * (1 - 1e-9);
+  return {largest_factor(facet, facet / std::sqrt(2.0), L) * (1 - 1e-9), facet};
+}
+
 ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed, const std::vector<Vec3>& prior,
-                                   double feature_angle, InterfaceProtectionStats* stats) {
+                                   double feature_angle, InterfaceProtectionStats* stats,
+                                   const std::function<double(Vec3)>& h, double lipschitz) {
   ProtectionSeeds out;
+  const auto [alpha_c, alpha_f] = interface_factors(h ? lipschitz : 0);
+  if (stats) stats->curve_factor = alpha_c, stats->facet_factor = alpha_f;
+  // The disks about a seed at p: on curves and on facets (uniform: r/2 and r/sqrt(2) exactly).
   const double rc = r / 2, rf = r / std::sqrt(2.0);
+  auto curve_disk = [&](Vec3 p) { return h ? alpha_c * std::min(r, h(p)) : rc; };
+  auto facet_disk = [&](Vec3 p) { return h ? alpha_f * std::min(r, h(p)) : rf; };
   const CounterRng rng(seed, RandomStream::Interfaces);
   // The interface triangles, once each (from the region behind their facet's normal), with the
   // facet they are on; and their edges.
@@ -168,17 +202,17 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     segments.push_back({a, dir, len, in, {{0.0, len}}});
     ++curve_degree[edge.first], ++curve_degree[edge.second];
   }
-  SeedHash hash(rf * (1 + 1e-12));  // the largest radius asked of it
-  for (Vec3 p : prior) hash.add(p);
+  SeedHash hash(std::max(rf, alpha_f * r) * (1 + 1e-12));  // (h <= r)
+  for (Vec3 p : prior) hash.add(p, facet_disk(p));
   if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
   auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
     out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
-    hash.add(p);
+    hash.add(p, facet_disk(p));
     if (kind == CellKind::InterfaceEdge)  // the curves are sampled before the facets
-      for (LinePiece& s : segments) remove_disk(s, p, rc);
+      for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
   };
   for (Vec3 p : prior)
-    for (LinePiece& s : segments) remove_disk(s, p, rc);
+    for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
   // Corners: ends of curves and vertices where more than two curve edges meet, a seed each just
   // off the vertex inside a region (ties between mirror-symmetric corners stay undecidable
   // otherwise, as for reflex corners).
@@ -195,13 +229,14 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
                                                 V[v].x, V[v].y, V[v].z));
     add(V[v] + 1e-7 * r * in, CellKind::InterfaceEdge, Vec3{});
   }
-  // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp).
+  // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp); a dart
+  // on the uncovered part is outside every earlier disk, whatever their radii.
   const double crumb = 1e-12 * std::max(r, set.boundary.bounds.diagonal());
   saturate_pieces(segments, rng, crumb, [&](size_t k, Vec3 p) { add(p, CellKind::InterfaceEdge, segments[k].inward); });
   if (stats) stats->edge_seeds = out.points.size();
   // Faces: maximal Poisson-disk sampling on the interface triangles with disks of r/sqrt(2)
   // (Ebeida et al. 2012 in 2D): darts uniform by area over the sub-triangles not yet inside one
-  // disk, each kept if no seed is within r/sqrt(2); then the sub-triangles left are split in
+  // disk, each kept if no earlier seed's disk holds it; then the sub-triangles left are split in
   // four and the darts go on, until every sub-triangle is covered.
   struct Sub {
     std::array<Vec3, 3> p;
@@ -234,9 +269,9 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   // disk's interior alone, and the sub-triangles about it would be split for ever (maximal up to
   // that size, far below anything the cells resolve).
   auto done = [&](const Sub& s) {
-    if (hash.covers(s.p, rf)) return true;
-    return longest(s.p) < 1e-6 * rf && hash.any_within(s.p[0], rf * (1 + 1e-12)) &&
-           hash.any_within(s.p[1], rf * (1 + 1e-12)) && hash.any_within(s.p[2], rf * (1 + 1e-12));
+    if (hash.covers(s.p)) return true;
+    return longest(s.p) < 1e-6 * rf && hash.any_within(s.p[0], 1 + 1e-12) && hash.any_within(s.p[1], 1 + 1e-12) &&
+           hash.any_within(s.p[2], 1 + 1e-12);
   };
   // (Bounded: sub-triangles that no disk covers would otherwise grow fourfold a level.)
   for (int level = 0; level < 30 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
@@ -256,7 +291,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
       if (u + v > 1) u = 1 - u, v = 1 - v;
       const Sub& s = active[k];
       const Vec3 p = s.p[0] + u * (s.p[1] - s.p[0]) + v * (s.p[2] - s.p[0]);
-      if (hash.any_within(p, rf)) continue;
+      if (hash.any_within(p)) continue;
       add(p, CellKind::InterfaceFace, -1.0 * set.facet_planes[size_t(s.facet)].normal);
       ++faces;
     }
@@ -267,6 +302,27 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   }
   if (stats) stats->face_seeds = faces, stats->uncovered = active.size();
   return out;
+}
+
+ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, uint64_t seed, SamplingStats& stats,
+                                                const std::function<double(Vec3)>& h, double lipschitz) {
+  ProtectionSeeds p;
+  if (!domain.convex) p = protect_reflex_features(domain, r, seed, h);
+  const size_t reflex = p.points.size();
+  stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
+  stats.edge_seeds = reflex - stats.vertex_seeds;
+  if (!domain.regions) return p;
+  InterfaceProtectionStats is;
+  const ProtectionSeeds q =
+      protect_interfaces(*domain.regions, r, seed, p.points, domain.features.angle_degrees, &is, h, lipschitz);
+  for (size_t k : is.prior_on_curves) p.kinds[k] = CellKind::InterfaceEdge;
+  p.points.insert(p.points.end(), q.points.begin(), q.points.end());
+  p.kinds.insert(p.kinds.end(), q.kinds.begin(), q.kinds.end());
+  p.inward.insert(p.inward.end(), q.inward.begin(), q.inward.end());
+  stats.interface_edge_seeds = is.edge_seeds, stats.interface_face_seeds = is.face_seeds;
+  stats.interface_uncovered = is.uncovered;
+  stats.interface_curve_factor = is.curve_factor, stats.interface_facet_factor = is.facet_factor;
+  return p;
 }
 
 }  // namespace froth

@@ -178,19 +178,23 @@ struct SizingBuilder {
   }
 };
 
-SizingField SizingField::from_feature_size(const Domain& d, const FeatureSize& fs, double r, const SizingOptions& o) {
+SizingField SizingField::from_feature_size(const Domain& d, const FeatureSize& fs, double r, const SizingOptions& o,
+                                           const std::vector<Measured>& regions) {
   SizingField f = uniform(r);
   f.grading_ = o.grading;
   // The thin places: the triangles whose wall or gap t is below 2r.
-  const TriangleSurface& S = d.surface;
   SizingBuilder build{d, {}};
-  for (size_t t = 0; t < S.triangles.size(); ++t) {
-    const double lfs = std::min(t < fs.thickness.size() ? fs.thickness[t] : INFINITY,
-                                t < fs.gap.size() ? fs.gap[t] : INFINITY);
-    if (!(lfs / 2 < r)) continue;
-    const auto& tri = S.triangles[t];
-    build.thin.push_back({(1.0 / 3) * (S.vertices[tri[0]] + S.vertices[tri[1]] + S.vertices[tri[2]]), lfs / 2});
-  }
+  auto thin_places = [&](const TriangleSurface& S, const FeatureSize& m) {
+    for (size_t t = 0; t < S.triangles.size(); ++t) {
+      const double lfs = std::min(t < m.thickness.size() ? m.thickness[t] : INFINITY,
+                                  t < m.gap.size() ? m.gap[t] : INFINITY);
+      if (!(lfs / 2 < r)) continue;
+      const auto& tri = S.triangles[t];
+      build.thin.push_back({(1.0 / 3) * (S.vertices[tri[0]] + S.vertices[tri[1]] + S.vertices[tri[2]]), lfs / 2});
+    }
+  };
+  thin_places(d.surface, fs);
+  for (const auto& [region, measured] : regions) thin_places(region->surface, *measured);
   const double floor = o.min_r > 0 ? std::min(o.min_r, r) : r / 4;
   if (std::all_of(build.thin.begin(), build.thin.end(), [&](const ThinPlace& p) { return std::max(floor, p.half_lfs) >= r; }))
     return f;

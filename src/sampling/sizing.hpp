@@ -33,7 +33,11 @@ struct SizingOptions {
 class SizingField {
  public:
   static SizingField uniform(double r);
-  static SizingField from_feature_size(const Domain& domain, const FeatureSize& fs, double r, const SizingOptions& o);
+  // `regions`: a multi-region solid's regions and their own measures, whose thin places count
+  // too (a layer thinner than 2r between two interfaces is no wall of the union).
+  using Measured = std::pair<const Domain*, const FeatureSize*>;
+  static SizingField from_feature_size(const Domain& domain, const FeatureSize& fs, double r, const SizingOptions& o,
+                                       const std::vector<Measured>& regions = {});
 
   double at(Vec3 x) const;
   bool is_uniform() const { return nodes_.empty(); }

@@ -13,9 +13,11 @@ seeds. Checked on each mesh:
   seed, interface curve seeds r/2 from one another (corners aside);
 - no cell star-shaped failures (report), region names in the VTU's field data;
 - interface cells within Theorem 1's edge- and vertex-cell bounds times sqrt(2) (4 sqrt(2), 8).
+With --grade where a layer thinner than 2r grades h (a plate of four layers, one of 0.04; two
+layers of 0.1; the heater): the same checks, the disks scaled by each seed's h and the factors the
+report gives (sampling/protect_interfaces.hpp), free seeds h(s) from every interface seed s.
 Then: OpenFOAM's checkMesh on the heater's polyMesh with a cellZone per region, an ensemble of two
-members, the heater in Exodus II, and --grade refused where the union's walls would grade (the
-bad inputs are in test_cli.py).
+members and the heater in Exodus II (the bad inputs are in test_cli.py).
 Usage: test_regions.py FROTH MODELS_DIR"""
 import collections
 import json
@@ -95,13 +97,16 @@ def kinds_and_regions(grid):
             vtk_to_numpy(cd.GetArray("volume")), vtk_to_numpy(cd.GetArray("seed")), vtk_to_numpy(cd.GetArray("piece")))
 
 
-def check_mesh(name, inputs, diag, fraction, seed, work, curved, weld=None):
-    """weld: the tolerance as a fraction of r (None: froth's default)."""
+def check_mesh(name, inputs, diag, fraction, seed, work, curved, weld=None, grade=False):
+    """weld: the tolerance as a fraction of r (None: froth's default); grade: with --grade, which
+    must grade h below r somewhere."""
     r = diag / fraction
     out, rep = os.path.join(work, "m.vtu"), os.path.join(work, "m.json")
     welding = [] if weld is None else ["--weld", repr(weld * r)]
-    p = froth("mesh", *inputs, "-r", repr(r), "--seed", str(seed), "-o", out, "--report", rep, "-q", *welding)
-    what = f"{name} r=diag/{fraction} seed {seed}" + ("" if weld is None else f" weld r*{weld}")
+    p = froth("mesh", *inputs, "-r", repr(r), "--seed", str(seed), "-o", out, "--report", rep, "-q", *welding,
+              *(["--grade"] if grade else []))
+    what = f"{name} r=diag/{fraction} seed {seed}" + ("" if weld is None else f" weld r*{weld}") + (
+        " graded" if grade else "")
     check(p.returncode == 0, f"{what}: exit {p.returncode}: {p.stderr}")
     if p.returncode != 0:
         return
@@ -112,6 +117,11 @@ def check_mesh(name, inputs, diag, fraction, seed, work, curved, weld=None):
         check(j["welding"]["edges_collapsed"] >= 10, f"{what}: welding collapsed {j['welding']['edges_collapsed']} edges")
     g = read_vtk(out)
     kind, region, volume, seeds, piece = kinds_and_regions(g)
+    if grade:
+        check(j["sizing"]["graded"] and j["sizing"]["smallest_h"] < 0.9 * r, f"{what}: h not graded: {j['sizing']}")
+        h = vtk_to_numpy(g.GetCellData().GetArray("radius"))
+    else:
+        h = np.full(len(kind), r)
     names = g.GetFieldData().GetAbstractArray("region_names")
     check(names is not None and [names.GetValue(k) for k in range(names.GetNumberOfValues())] ==
           [x["name"] for x in j["regions"]], f"{what}: region names in the field data")
@@ -171,21 +181,28 @@ def check_mesh(name, inputs, diag, fraction, seed, work, curved, weld=None):
         for side in key:
             a = area_from[(key, side)]
             check(abs(a - i["area"]) <= 1e-9 * i["area"], f"{what}: interface {key} from {side}: {a} against {i['area']}")
-    # Empty disks by seed kind (each seed once: its piece-0 cell).
+    # Empty disks by seed kind (each seed once: its piece-0 cell), radii h at the seeds (r unless
+    # graded) times the report's factors (1/2 on curves, 1/sqrt(2) on facets unless graded).
     first = piece == 0
-    xs, ks = seeds[first], kind[first]
+    xs, ks, hs = seeds[first], kind[first], h[first]
+    alpha_c, alpha_f = j["sampling"]["interface_curve_disk_over_h"], j["sampling"]["interface_facet_disk_over_h"]
+    if not grade:
+        check(alpha_c == 0.5 and abs(alpha_f - 1 / math.sqrt(2)) < 1e-15, f"{what}: disk factors {alpha_c} {alpha_f}")
     tree = cKDTree(xs)
     too_close = 0
     for a, b in tree.query_pairs(r * (1 - 1e-9)):
         ka, kb = ks[a], ks[b]
         d = np.linalg.norm(xs[a] - xs[b])
+        near = min(hs[a], hs[b]) * (1 - 1e-9)
         if ka < 4 or kb < 4:
-            if ka < 2 or kb < 2:  # a free seed
-                too_close += 1
+            if ka < 2 and kb < 2:  # free seeds: the earlier one's disk
+                too_close += d < near
+            elif ka < 2 or kb < 2:  # a free and a protection seed: the protection seed's
+                too_close += d < (hs[b] if ka < 2 else hs[a]) * (1 - 1e-9)
         elif ka == 4 or kb == 4:
-            too_close += d < r / math.sqrt(2) * (1 - 1e-9)
+            too_close += d < alpha_f * near
         else:
-            too_close += d < r / 2 * (1 - 1e-9) and d > 1e-6 * r
+            too_close += d < alpha_c * near and d > 1e-6 * r
     check(too_close == 0, f"{what}: {too_close} pairs of seeds closer than their disks")
     check(j["star_shaped"]["cells_not_star_shaped"] == 0, f"{what}: cells not star-shaped: {j['star_shaped']}")
     check(j["sampling"]["interface_uncovered_subtriangles"] == 0, f"{what}: interface sampling not maximal")
@@ -198,6 +215,8 @@ def check_mesh(name, inputs, diag, fraction, seed, work, curved, weld=None):
     # ball: those runs are checked above, the bound by the runs without that tolerance).
     cells = j["quality"]["cells"]
     shift = j.get("welding_shift", {}).get("max_aspect_change", 0)
+    if grade:  # (graded cells have their own bounds, test_graded.py)
+        return j
     for k, bound in (("interface_face", 4 * math.sqrt(2)), ("interface_edge", 8.0)):
         if cells.get(k, {}).get("count") and shift is not None:
             worst = cells[k]["aspect"]["max"]  # None: a cell without an inscribed ball
@@ -272,11 +291,17 @@ with tempfile.TemporaryDirectory() as work:
     p = froth("ensemble", "box:0,0,0,1,1,1", "box:1,0,0,2,1,1", "-r", "0.2", "--members", "2", "-o", ens, "-q")
     check(p.returncode == 0 and len([f for f in os.listdir(ens) if f.endswith(".vtu")]) == 2, f"ensemble: {p.stderr}")
 
-    # --grade where the union's walls need h < r: interface protection is not graded yet, so a
-    # usage error and no file (rather than interfaces cutting free seeds' cells).
-    out = os.path.join(work, "graded.vtu")
-    p = froth("mesh", "box:0,0,0,1,1,0.05", "box:0,0,0.05,1,1,0.1", "-r", "0.1", "--grade", "-o", out)
-    check(p.returncode == 2 and "does not yet grade interface protection" in p.stderr and not os.path.exists(out),
-          f"--grade on a thin multi-region plate: exit {p.returncode}: {p.stderr}")
+    # Graded: a layer thinner than 2r between two interfaces grades h as a thin wall does.
+    graded = [
+        ("four-layer plate", ["box:0,0,0,1,1,0.3", "box:0,0,0.3,1,1,0.6", "box:0,0,0.6,1,1,1", "box:0,0,1,1,1,1.04"],
+         math.sqrt(2 + 1.04**2), (10, 20)),
+        ("two thin layers", ["box:0,0,0,1,1,0.1", "box:0,0,0.1,1,1,0.2"], math.sqrt(2.04), (10,)),
+        ("heater", HEATER, cases[7][2], (10, 20)),
+    ]
+    for name, inputs, diag, fractions in graded:
+        for fraction in fractions:
+            for seed in (0, 1):
+                check_mesh(name, inputs, diag, fraction, seed, work, False, grade=True)
+        check_mesh(name, inputs, diag, fractions[0], 0, work, False, weld=0.05, grade=True)
 
 sys.exit(summary())

@@ -10,6 +10,7 @@
 #include "common/test_support.hpp"
 #include "features/feature_size.hpp"
 #include "froth/quality.hpp"
+#include "sampling/protect_interfaces.hpp"
 #include "sampling/sizing.hpp"
 
 namespace froth {
@@ -179,6 +180,53 @@ TEST(GradedSample, SameForAnyThreadCount) {
   ASSERT_EQ(a.seeds.size(), b.seeds.size());
   EXPECT_TRUE(std::equal(a.seeds.begin(), a.seeds.end(), b.seeds.begin()));
   EXPECT_TRUE(std::equal(a.points.begin(), a.points.end(), b.points.begin(), b.points.end()));
+}
+
+// The graded interface disks (protect_interfaces.hpp): the worst placements the argument allows.
+// A seed s of radius H covers the projection p of a seed f above the interface (or beside the
+// curve) that keeps `keep` H from s, at the least height that allows; a point x at distance t
+// from p lies on the rim of the disk of a seed s' whose radius is as large as the Lipschitz bound
+// lets it be. The returned slack, min over placements of |x - f| - cover h(s'), over H, must not
+// be negative: x is then no nearer f than an interface seed.
+double worst_slack(double cover, double keep, double L, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  double worst = INFINITY;
+  for (int q = 0; q < 50000; ++q) {
+    const double H = 1, ps = cover * H * std::sqrt(u(rng));  // |p - s|
+    const double z = std::sqrt(std::max(0.0, keep * keep * H * H - ps * ps));
+    // In the plane: s at the origin, p at (ps, 0), x at t from p, s' beyond x from p.
+    const double phi = 2 * M_PI * u(rng), t = 3 * H * u(rng), psi = 2 * M_PI * u(rng);
+    const double xx = ps + t * std::cos(phi), xy = t * std::sin(phi);
+    double h2 = H;  // the largest h(s') <= H + L |s - s'|, |x - s'| = cover h(s'), by iteration
+    for (int k = 0; k < 40; ++k) {  // (a contraction by L cover < 1/2)
+      const double sx = xx + cover * h2 * std::cos(psi), sy = xy + cover * h2 * std::sin(psi);
+      h2 = H + L * std::hypot(sx, sy);
+    }
+    const double dist_f = std::sqrt(t * t + z * z);
+    worst = std::min(worst, (dist_f - cover * h2) / H);
+  }
+  return worst;
+}
+
+TEST(InterfaceFactors, InterfacePointsStayNearestInterfaceSeedsUnderGrading) {
+  const auto [c0, f0] = interface_factors(0);
+  EXPECT_EQ(c0, 0.5);
+  EXPECT_EQ(f0, 1 / std::sqrt(2.0));
+  double last_c = c0, last_f = f0;
+  for (double L : {0.05, 0.2, std::sqrt(3.0) * 0.2, 0.45}) {
+    const auto [c, f] = interface_factors(L);
+    EXPECT_LT(c, last_c) << L;
+    EXPECT_LT(f, last_f) << L;
+    last_c = c, last_f = f;
+    // Facets: free seeds keep h(s) from every interface seed; curves: facet seeds keep f h(c).
+    EXPECT_GE(worst_slack(f, 1, L, 1), -1e-9) << "facets, L = " << L;
+    EXPECT_GE(worst_slack(c, f, L, 2), -1e-9) << "curves, L = " << L;
+    // Not loose: disks 3% larger fail, and the ungraded ones fail under grading.
+    EXPECT_LT(worst_slack(1.03 * f, 1, L, 3), 0) << "facets, L = " << L;
+    EXPECT_LT(worst_slack(1.03 * c, f, L, 4), 0) << "curves, L = " << L;
+    EXPECT_LT(worst_slack(f0, 1, L, 5), 0) << "uniform facet disks, L = " << L;
+  }
 }
 
 }  // namespace
