@@ -127,12 +127,20 @@ class Splitter {
       exact = domain_planes_[size_t(generator_plane(g))];
       known = true;
     }
+    const FacePlane fit = polygon_plane(v, at);
+    // A multi-region solid's interface face lies on its facet, whatever cell is across it (the
+    // same seed's part in the other region, or a neighbour's): out of this cell.
+    const int32_t facet = m_.face_interface_facet.empty() ? -1 : m_.face_interface_facet[size_t(f)];
+    if (facet >= 0 && size_t(facet) < domain_planes_.size()) {
+      exact = domain_planes_[size_t(facet)];
+      if (dot(exact.normal, fit.normal) < 0) exact = {-1.0 * exact.normal, -exact.offset};
+      known = true;
+    }
     if (known) {  // graded or clipped faces may lie elsewhere: the exact plane only if it fits
       double off = 0;
       for (int32_t p : v) off = std::max(off, std::abs(exact.signed_distance(at(p))));
       if (off <= tol_) return exact;
     }
-    const FacePlane fit = polygon_plane(v, at);
     return {fit.normal, dot(fit.normal, fit.centroid)};
   }
 
@@ -503,6 +511,7 @@ class Splitter {
       if (!m_.piece.empty()) out.piece.push_back(m_.piece[c]);
       if (!m_.radii.empty()) out.radii.push_back(m_.radii[c]);
       if (!m_.near_graded.empty()) out.near_graded.push_back(m_.near_graded[c]);
+      if (!m_.region.empty()) out.region.push_back(m_.region[c]);
       out.parent.push_back(uint32_t(c));
       auto it = edited_.find(id);
       if (it == edited_.end()) {
@@ -529,6 +538,7 @@ class Splitter {
     out.random_seed = m_.random_seed;
     out.border_planes_known = m_.border_planes_known;
     out.patch_names = std::move(m_.patch_names);
+    out.region_names = std::move(m_.region_names);
     m_ = std::move(out);
   }
 

@@ -63,8 +63,6 @@ class Stopwatch {
 // `share`: the part of the mesh this process holds (a partitioned run's rank: 1 / ranks).
 void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run, double share = 1) {
   check_mesh_options(domain, opt, share);
-  if (domain.regions && opt.convex)
-    fail(ErrorKind::Usage, "--convex is not available for a multi-region solid yet");
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   run.domain = domain.description;
   run.r = opt.r;
@@ -167,7 +165,7 @@ struct WeldedCells {
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
   if (!(opt.weld > 0)) {
-    mesh.face_interface_facet.clear();
+    if (!opt.convex) mesh.face_interface_facet.clear();  // (--convex cuts by interface planes too)
     return welded;
   }
   if (opt.progress) opt.progress("welding", 0);
@@ -348,7 +346,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   const WeldedCells welded = weld_stage(mesh, opt, run, watch);
   if (opt.convex) {
     progress("convex");
-    run.convex_split = split_nonconvex_cells(mesh, domain.planes, opt.r);
+    run.convex_split = split_nonconvex_cells(mesh, domain.regions ? domain.regions->boundary.planes : domain.planes, opt.r);
     run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
   }
   finish_mesh(domain, mesh, opt, run, welded, watch);

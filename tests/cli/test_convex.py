@@ -2,7 +2,9 @@
 in the same run without --convex, the mesh still conforming (each face in one cell on the
 border or in exactly two with the same vertices), the report's counts matching the file, and
 checkMesh finding the pieces' face pyramids correctly oriented where the unsplit mesh has
-inverted ones.
+inverted ones. Multi-region solids too (the heater's five solids, a sphere inclusion in a box):
+each piece in its cell's region, each region's pieces summing to its enclosed volume and each
+interface's area from either side to the input's (1e-9).
 
 Convex is checked as each piece's convex hull (scipy's qhull over its vertices) holding no more
 volume than the piece, within 1e-12 r^3: the unsplit cells miss theirs by up to 0.3 r^3. froth
@@ -29,7 +31,13 @@ MODELS = sys.argv[2]
 # (model, r, the largest aspect ratio of a piece where it is known to be small): the 7/8 cube's
 # float STL has steps of 1e-7 r between facets of one face, which cuts would turn into slabs.
 CASES = [("hollow_sphere.off", 0.08, 1e3), ("hinge.stl", 1.5, None), ("round.stl", 0.3, 1e3),
-         ("7_8ths_cube.stl", 4.0, 10), ("1002_tray_bottom.STL", 5.0, None)]
+         ("7_8ths_cube.stl", 4.0, 10), ("1002_tray_bottom.STL", 5.0, None),
+         ("multi_region_heater", 0.012, 10), ("sphere in a box", 0.26, None)]
+REGION_INPUTS = {
+    "multi_region_heater": [os.path.join(MODELS, "multi_region_heater", f + ".stl")
+                            for f in ("bottomAir", "heater", "leftSolid", "rightSolid", "topAir")],
+    "sphere in a box": ["box:-1.5,-1.5,-1.5,1.5,1.5,1.5", os.path.join(MODELS, "unit_sphere.STL")],
+}
 
 
 def hull_excess(points, faces):
@@ -38,17 +46,54 @@ def hull_excess(points, faces):
     return ConvexHull(points[ids]).volume
 
 
+def area(points, f):
+    q = points[list(f)]
+    return 0.5 * np.linalg.norm(np.cross(q[1:-1] - q[0], q[2:] - q[0]).sum(axis=0))
+
+
+def check_regions(name, g, whole, parent, volume, points, faces, j):
+    """A multi-region mesh's pieces: in their cell's region, volumes per region and interface
+    areas from each side as the input's."""
+    region = vtk_to_numpy(g.GetCellData().GetArray("region"))
+    whole_region = vtk_to_numpy(whole.GetCellData().GetArray("region"))
+    check(np.array_equal(region, whole_region[parent]), f"{name}: a piece is not in its cell's region")
+    for k, reg in enumerate(j["regions"]):
+        v = float(volume[region == k].sum())
+        check(abs(v - reg["enclosed_volume"]) <= 1e-9 * reg["enclosed_volume"],
+              f"{name}: region {reg['name']}: pieces {v} against {reg['enclosed_volume']}")
+    names = [x["name"] for x in j["regions"]]
+    sides = collections.defaultdict(float)
+    for c, fs in enumerate(faces):
+        for f in fs:
+            sides[tuple(sorted(f)), names[region[c]]] = area(points, f)
+    by_face = collections.defaultdict(dict)
+    for (key, reg), a in sides.items():
+        by_face[key][reg] = a
+    from_side = collections.defaultdict(float)
+    for regs in by_face.values():
+        if len(regs) == 2:
+            pair = tuple(sorted(regs))
+            for reg, a in regs.items():
+                from_side[pair, reg] += a
+    for i in j["interfaces"]:
+        pair = tuple(sorted(i["regions"]))
+        for reg in pair:
+            check(abs(from_side[pair, reg] - i["area"]) <= 1e-9 * i["area"],
+                  f"{name}: interface {pair} from {reg}: {from_side[pair, reg]} against {i['area']}")
+
+
 def run_case(tmp, name, r, aspect_bound):
-    path = os.path.join(MODELS, name)
-    stem = os.path.join(tmp, name.split(".")[0])
-    p = froth("mesh", path, "-r", str(r), "--seed", "1", "--convex", "-q", "-o", stem + "_convex.vtu",
+    inputs = REGION_INPUTS.get(name, [os.path.join(MODELS, name)])
+    stem = os.path.join(tmp, name.split(".")[0].replace(" ", "_"))
+    p = froth("mesh", *inputs, "-r", str(r), "--seed", "1", "--convex", "-q", "-o", stem + "_convex.vtu",
               "--report", stem + "_convex.json")
     check(p.returncode == 0, f"{name}: --convex exits {p.returncode}: {p.stderr}")
     if p.returncode != 0:
         return
-    p = froth("mesh", path, "-r", str(r), "--seed", "1", "--weld", "0", "-q", "-o", stem + ".vtu")
+    p = froth("mesh", *inputs, "-r", str(r), "--seed", "1", "--weld", "0", "-q", "-o", stem + ".vtu")
     check(p.returncode == 0, f"{name}: the unsplit mesh exits {p.returncode}: {p.stderr}")
-    report = json.load(open(stem + "_convex.json"))["convex"]
+    full_report = json.load(open(stem + "_convex.json"))
+    report = full_report["convex"]
     g, whole = read_vtk(stem + "_convex.vtu"), read_vtk(stem + ".vtu")
     points = vtk_to_numpy(g.GetPoints().GetData())
     n = g.GetNumberOfCells()
@@ -101,6 +146,8 @@ def run_case(tmp, name, r, aspect_bound):
         reversed_ok = len(where) == 2 and c1 != c2 and all(f2[(k - i) % len(f2)] == f1[i] for i in range(len(f1)))
         unmatched += not reversed_ok
     check(unmatched == 0, f"{name}: {unmatched} faces are not shared by exactly two cells in opposite orientations")
+    if name in REGION_INPUTS:
+        check_regions(name, g, whole, parent, volume, points, faces, full_report)
     print(f"{name} r={r}: {len(whole_volume)} cells -> {n}; {split} split into {report['pieces']} pieces "
           f"(up to {report['most_pieces_of_a_cell']}); largest hull excess {excess.max() / r ** 3:.2e} r^3; "
           f"{report['cells_left_nonconvex']} left non-convex (by up to {report['left_vertex_beyond_face_plane_over_r']:.2g} r); smallest piece {report['smallest_piece_volume_over_r3']:.3g} r^3; "
