@@ -1,8 +1,12 @@
 // Corefinement of touching solids (see conform.hpp). CGAL's corefinement inserts, into each
 // surface, the curve where it meets the other, coplanar overlaps included, and retriangulates the
 // split faces; faces that overlap in a plane come out with the same sub-triangles on both sides.
+#include <algorithm>
 #include <optional>
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Box_intersection_d/Box_with_info_d.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -201,6 +205,37 @@ int conform_touching_solids(std::vector<TriangleSurface>& solids) {
   for (size_t k = 0; k < n; ++k)
     if (touched[k]) from_mesh(*mesh[k], solids[k]), ++changed_solids;
   return changed_solids;
+}
+
+std::optional<NearMiss> vertex_near_other_face(const std::vector<Vec3>& V, const std::vector<std::array<int32_t, 3>>& T,
+                                               const std::vector<std::array<int32_t, 2>>& sides,
+                                               const std::vector<std::vector<int32_t>>& regions_at, double tol) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  std::vector<K::Triangle_3> tris;
+  tris.reserve(T.size());
+  auto point = [&](int32_t v) { return K::Point_3(V[size_t(v)].x, V[size_t(v)].y, V[size_t(v)].z); };
+  for (const auto& t : T) tris.emplace_back(point(t[0]), point(t[1]), point(t[2]));
+  using Primitive = CGAL::AABB_triangle_primitive<K, std::vector<K::Triangle_3>::const_iterator>;
+  CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>> tree(tris.begin(), tris.end());
+  std::optional<NearMiss> found;
+  std::vector<Primitive::Id> near;
+  for (size_t v = 0; v < V.size() && !found; ++v) {
+    if (regions_at[v].empty()) continue;
+    const Vec3 p = V[v];
+    near.clear();
+    tree.all_intersected_primitives(K::Iso_cuboid_3(p.x - tol, p.y - tol, p.z - tol, p.x + tol, p.y + tol, p.z + tol),
+                                    std::back_inserter(near));
+    for (auto it : near) {
+      const size_t t = size_t(it - tris.begin());
+      if (T[t][0] == int32_t(v) || T[t][1] == int32_t(v) || T[t][2] == int32_t(v)) continue;
+      bool shared = false;
+      for (int32_t side : sides[t]) shared |= side >= 0 && std::count(regions_at[v].begin(), regions_at[v].end(), side);
+      if (shared) continue;
+      const double d = std::sqrt(CGAL::to_double(CGAL::squared_distance(point(int32_t(v)), tris[t])));
+      if (d < tol && (!found || d < found->distance)) found = NearMiss{int32_t(v), int32_t(t), d};
+    }
+  }
+  return found;
 }
 
 }  // namespace froth

@@ -356,6 +356,19 @@ class RegionBuilder {
             }
           }
     }
+    // The same away from vertices: a vertex of one solid within tol of another's face.
+    std::vector<std::array<int32_t, 2>> sides(tri_.size());
+    for (size_t u = 0; u < tri_.size(); ++u) sides[u] = {side_region_[2 * u], side_region_[2 * u + 1]};
+    if (const auto miss = vertex_near_other_face(V_, tri_, sides, regions_at, tol)) {
+      const auto& t = tri_[size_t(miss->triangle)];
+      const int32_t a = regions_at[size_t(miss->vertex)][0], b = std::max(sides[size_t(miss->triangle)][0], sides[size_t(miss->triangle)][1]);
+      fail(ErrorKind::InvalidInput,
+           fmt::format("{} and {} nearly touch: vertex {} of {} is {:.3g} from the triangle {} {} {} of {} (below 1e-6 of "
+                       "the part's size) but not on it; faces meant to touch must meet exactly, and solids meant to be "
+                       "apart must be farther apart",
+                       body_names_[size_t(a)], body_names_[size_t(b)], where(V_[size_t(miss->vertex)]), body_names_[size_t(a)],
+                       miss->distance, where(V_[t[0]]), where(V_[t[1]]), where(V_[t[2]]), body_names_[size_t(b)]));
+    }
   }
 
   void make_solids(RegionSet& set) {

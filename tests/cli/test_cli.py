@@ -175,11 +175,14 @@ for args, code, words in [
     ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "--repair"),
     ([os.path.join(MODELS, "rook.stl"), "-r", "1"], 3, "shared by 4 triangles"),
     # Multi-region input: solids that overlap (one poking into another, a pin through a plate),
-    # the same solid twice, solids a rounding error apart.
+    # the same solid twice, solids a rounding error apart at their vertices ...
     (["box:0,0,0,1,1,1", "box:0.5,0.2,0.2,1.5,0.8,0.8", "-r", "0.1"], 3, "box_0 and box_1 overlap near"),
     (["box:0,0,0,1,1,1", "box:0.4,0.4,-0.5,0.6,0.6,1.5", "-r", "0.1"], 3, "box_0 and box_1 overlap near"),
     (["box:0,0,0,1,1,1", "box:0,0,0,1,1,1", "-r", "0.1"], 3, "listed twice the same way"),
     (["box:0,0,0,1,1,1", "box:1.0000001,0,0,2,1,1", "-r", "0.1"], 3, "box_0 and box_1 nearly touch"),
+    # ... and a block 1e-8 off a larger face, no vertex near another's.
+    (["box:0,0,0,1,1,1", "box:1.00000001,0.2,0.2,2,0.8,0.8", "-r", "0.1"], 3,
+     "vertex (1.00000001, 0.2, 0.2) of box_1 is 1e-08 from the triangle"),
     # The two broken kinds of real parts (tests/data/README.md): a non-manifold vertex, an open
     # surface with crossing triangles, folded faces.
     ([os.path.join(DATA, "touching_tetrahedra.off"), "-r", "0.3"], 3, "not manifold at vertex 0"),
