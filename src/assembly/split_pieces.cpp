@@ -157,11 +157,29 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
   for (size_t c = 0; c < n; ++c) first[c + 1] = first[c] + (which[c] < 0 ? 1 : pieces[size_t(which[c])].count);
   const size_t cells = size_t(first[n]);
 
+  // Each new cell's faces and face vertices, counted, then summed into where each begins.
+  const auto piece_count = [&](size_t c) { return which[c] < 0 ? 1 : pieces[size_t(which[c])].count; };
+  const auto in_piece = [&](size_t c, int64_t f, int p) {
+    return which[c] < 0 || pieces[size_t(which[c])].of_face[size_t(f - m.cell_face_begin[c])] == uint32_t(p);
+  };
   PolyMesh out;
   out.r = m.r;
+  out.cell_face_begin.assign(cells + 1, 0);
+  std::vector<int64_t> cell_fv(cells + 1, 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (size_t c = 0; c < n; ++c) {
+    const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
+    for (int p = 0; p < piece_count(c); ++p) {
+      int64_t faces = 0, vertices = 0;
+      for (int64_t f = f0; f < f1; ++f)
+        if (in_piece(c, f, p)) ++faces, vertices += m.face_vertex_begin[f + 1] - m.face_vertex_begin[f];
+      out.cell_face_begin[size_t(first[c] + p) + 1] = faces, cell_fv[size_t(first[c] + p) + 1] = vertices;
+    }
+  }
+  for (size_t k = 0; k < cells; ++k) out.cell_face_begin[k + 1] += out.cell_face_begin[k], cell_fv[k + 1] += cell_fv[k];
   out.points = std::move(m.points);
   out.seeds.resize(cells), out.kinds.resize(cells), out.piece.assign(cells, 0);
-  out.cell_face_begin.assign(cells + 1, 0);
+  if (regions) out.region.resize(cells);
   out.face_generator.resize(m.face_count());
   if (regions) out.face_interface_facet.assign(m.face_count(), -1);
   out.face_vertex_begin.resize(m.face_count() + 1);
@@ -180,33 +198,32 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
     return int32_t(first[size_t(g)] +
                    (w < 0 ? 0 : pieces[size_t(w)].piece_of_vertex(m.face_vertices[m.face_vertex_begin[f]], rf)));
   };
-  int64_t face = 0, fv = 0;
-  auto copy_face = [&](int64_t f, size_t c) {
-    const int32_t g = m.face_generator[f];
-    if (regions && g < 0 && regions->is_interface(generator_plane(g))) out.face_interface_facet[size_t(face)] = generator_plane(g);
-    out.face_generator[size_t(face)] = new_generator(g, f, c);
-    out.face_vertex_begin[size_t(face)] = fv;
-    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
-      out.face_vertices[size_t(fv++)] = m.face_vertices[k];
-    ++face;
-  };
+  // Every cell's pieces at their places, in parallel (the copy was most of this stage's time).
+#pragma omp parallel for schedule(dynamic, 1024)
   for (size_t c = 0; c < n; ++c) {
     const int64_t f0 = m.cell_face_begin[c], f1 = m.cell_face_begin[c + 1];
     const int32_t w = which[c];
-    const int count = w < 0 ? 1 : pieces[size_t(w)].count;
-    for (int p = 0; p < count; ++p) {
+    for (int p = 0; p < piece_count(c); ++p) {
       const size_t cell = size_t(first[c] + p);
-      out.cell_face_begin[cell] = face;
       out.seeds[cell] = m.seeds[c];
       out.kinds[cell] = p == 0 ? m.kinds[c] : CellKind::Fringe;
       out.piece[cell] = uint32_t(p);
-      if (regions) out.region.push_back(w < 0 ? m.region[c] : pieces[size_t(w)].region[size_t(p)]);
-      for (int64_t f = f0; f < f1; ++f)
-        if (w < 0 || pieces[size_t(w)].of_face[size_t(f - f0)] == uint32_t(p)) copy_face(f, c);
+      if (regions) out.region[cell] = w < 0 ? m.region[c] : pieces[size_t(w)].region[size_t(p)];
+      int64_t face = out.cell_face_begin[cell], fv = cell_fv[cell];
+      for (int64_t f = f0; f < f1; ++f) {
+        if (!in_piece(c, f, p)) continue;
+        const int32_t g = m.face_generator[f];
+        if (regions && g < 0 && regions->is_interface(generator_plane(g)))
+          out.face_interface_facet[size_t(face)] = generator_plane(g);
+        out.face_generator[size_t(face)] = new_generator(g, f, c);
+        out.face_vertex_begin[size_t(face)] = fv;
+        for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+          out.face_vertices[size_t(fv++)] = m.face_vertices[k];
+        ++face;
+      }
     }
   }
-  out.cell_face_begin[cells] = face;
-  out.face_vertex_begin[size_t(face)] = fv;
+  out.face_vertex_begin[size_t(out.cell_face_begin[cells])] = cell_fv[cells];
   out.region_names = std::move(m.region_names);
   m = std::move(out);
 }
