@@ -147,10 +147,11 @@ std::string interior_aspect_text(const froth::QualityReport& q) {
 std::string mesh_summary(const froth::RunReport& run, const std::vector<std::string>& written, Verbosity v) {
   if (v == Verbosity::Quiet) return "";
   std::string out = fmt::format("froth: meshed {} with r = {} and seed {}\n", run.domain, run.r, run.seed);
-  out += line("cells", fmt::format("{} ({} interior, {} fringe, {} edge, {} vertex), {} faces, {} points; every cell "
+  const std::string interface_cells = run.regions.empty() ? "" : fmt::format(", {} interface", run.interface_cells);
+  out += line("cells", fmt::format("{} ({} interior, {} fringe, {} edge, {} vertex{}), {} faces, {} points; every cell "
                                    "closed, every interior face matched",
                                    run.cells, run.interior_cells, run.fringe_cells, run.edge_cells, run.vertex_cells,
-                                   run.faces, run.points));
+                                   interface_cells, run.faces, run.points));
   out += line("volume", fmt::format("cells sum {:.12g}, domain {:.12g} (relative error {:.2e})", run.volume_sum,
                                     run.domain_volume, run.volume_relative_error()));
   if (!run.regions.empty()) {
@@ -172,8 +173,10 @@ std::string quality_summary(const std::string& mesh, const froth::MeshCheck& che
   size_t cells = 0;
   for (auto n : q.cells) cells += n;
   std::string out = fmt::format("froth: {}\n", mesh);
-  out += line("cells", fmt::format("{} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex); {}", cells,
+  const uint64_t interface_cells = q.cells[size_t(froth::CellKind::InterfaceFace)] + q.cells[size_t(froth::CellKind::InterfaceEdge)];
+  out += line("cells", fmt::format("{} polyhedral cells ({} interior, {} fringe, {} edge, {} vertex{}); {}", cells,
                                    q.cells[0], q.cells[1], q.cells[2], q.cells[3],
+                                   interface_cells ? fmt::format(", {} interface", interface_cells) : std::string(),
                                    check.ok() ? "every cell closed, every shared face matched"
                                               : fmt::format("NOT VALID: {} open cells, {} unmatched faces, {} cells "
                                                             "of non-positive volume (first: {})",
