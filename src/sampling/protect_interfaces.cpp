@@ -136,7 +136,9 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
                                    double feature_angle, InterfaceProtectionStats* stats,
                                    const std::function<double(Vec3)>& h, double lipschitz) {
   ProtectionSeeds out;
-  const auto [alpha_c, alpha_f] = interface_factors(h ? lipschitz : 0);
+  // (Not a structured binding: clang 14 cannot capture one in the lambdas below.)
+  const std::array<double, 2> factors = interface_factors(h ? lipschitz : 0);
+  const double alpha_c = factors[0], alpha_f = factors[1];
   if (stats) stats->curve_factor = alpha_c, stats->facet_factor = alpha_f;
   // The disks about a seed at p: on curves and on facets (uniform: r/2 and r/sqrt(2) exactly).
   const double rc = r / 2, rf = r / std::sqrt(2.0);
