@@ -204,7 +204,7 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     segments.push_back({a, dir, len, in, {{0.0, len}}});
     ++curve_degree[edge.first], ++curve_degree[edge.second];
   }
-  SeedHash hash(std::max(rf, alpha_f * r) * (1 + 1e-12));  // (h <= r)
+  SeedHash hash(rf * (1 + 1e-12));  // the largest disk: alpha_f <= 1/sqrt(2) and h <= r
   for (Vec3 p : prior) hash.add(p, facet_disk(p));
   if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
   auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
