@@ -45,10 +45,11 @@ struct Slab {
 // ghost cells around them so that welding sees every short edge at an owned vertex (the cells
 // sharing a vertex of an owned cell have seeds within 2r of an owned seed, Lemma 1: 2 sqrt(3) < 4
 // layers, plus one layer for chains of short edges); each of those cells needs the seeds within
-// 2r of its own, 4 more layers.
+// its security radius, 2r mostly, but up to 2 sqrt(3) 1.05 r (the cube it is cut from) where a
+// part of it in the domain reaches beyond r (assembly/cell_builder.cpp): 7 more layers.
 constexpr int kSamplingHaloLayers = 2;
 constexpr int kGhostCellLayers = 5;
-constexpr int kCellHaloLayers = kGhostCellLayers + 4;
+constexpr int kCellHaloLayers = kGhostCellLayers + 7;
 
 // The slab of `rank` among `ranks` on a grid of nz layers (equal shares). Throws Error(Usage) when
 // a slab would be thinner than kCellHaloLayers, as the halo must come from the neighbours alone.

@@ -56,9 +56,35 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
                                          std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper,
                                          RegionCell* in_regions, int32_t own_region) const {
   const Vec3 x = sample_.seeds[i];
+  gather_neighbours(i, x, reach_, nb);
+  double extent2 = 0;
+  bool beyond = false;
+  CellError e = cut_and_clip(i, nb, cell, clipper, clipped, is_clipped, names, region_clipper, in_regions, own_region,
+                             extent2, beyond);
+  if (!beyond) return e;
+  // The seeds within 2r cut V to the Voronoi cell within r of x (Lemma 1), which holds all of
+  // the cell in D if the sample is maximal; but a part of V ∩ D beyond r of x (behind a wall
+  // or across a gap) may belong to a seed farther than 2r. So V is cut again by every seed
+  // within its security radius, twice its extent: then V ∩ D is the cell, all within r.
+  gather_neighbours(i, x, 2 * std::sqrt(extent2) * (1 + 1e-9) + 4 * eps_, nb);
+  e = cut_and_clip(i, nb, cell, clipper, clipped, is_clipped, names, region_clipper, in_regions, own_region, extent2,
+                   beyond);
+  if (beyond)
+    return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed in the domain: the sample is not maximal",
+                       i, x.x, x.y, x.z);
+  return e;
+}
+
+CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbour>& nb, ConvexCell& cell,
+                                                 CellClipper* clipper, ClippedCell& clipped, bool& is_clipped,
+                                                 std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper,
+                                                 RegionCell* in_regions, int32_t own_region, double& extent2,
+                                                 bool& beyond) const {
+  const Vec3 x = sample_.seeds[i];
   const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
   cell.reset_cube(half);
   is_clipped = false;
+  beyond = false;
   // Keeps the part of the cell on the inner side of facet plane p.
   auto cut_by_plane = [&](int32_t p) {
     const Plane& pl = domain_.planes[size_t(p)];
@@ -70,13 +96,6 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
     if (pl.offset - dot(pl.normal, x) >= half * std::sqrt(3.0)) continue;
     if (!cut_by_plane(int32_t(p))) return cut_failure(fmt::format("cell {}: clipping by domain plane {} failed", i, p));
   }
-  gather_neighbours(i, x, nb);
-  // Nearest first, ties by seed. Some 25 neighbours: by insertion (std::sort's partition step
-  // and calls were a tenth of the cells' neighbour search); a long list, as protection seeds
-  // can make, by std::sort.
-  auto nearer = [](const Neighbour& a, const Neighbour& b) { return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed; };
-  if (nb.size() > 64) std::sort(nb.begin(), nb.end(), nearer);
-  else insertion_sort(nb.data(), nb.data() + nb.size(), nearer);
   // Security radius: a seed farther than twice the cell's radius cannot cut it. The cell's
   // radius is a pass over its vertices; after a cut the farthest vertex of the new face gives
   // a lower bound on it, and a neighbour within that is cut without the pass. The stop is the
@@ -96,11 +115,23 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
     if (!usable(c)) return cut_failure(fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed));
     if (c == ConvexCell::Clip::Cut) bound = security_bound(cell.new_face_radius2()), exact = false;
   }
+  extent2 = cell.max_radius2();
+  // A part of V ∩ D with a point beyond r of x: cut by too few seeds (build()). Within r of x
+  // the cell is exact, and a part beyond it lies wholly beyond r(1 + 2e-9) (reach_'s margin).
+  const double limit2 = r_ * r_ * (1 + 2e-9);
+  auto reaches_beyond = [&](const ClippedCell& c) {
+    for (size_t v = 0; v < c.vertex_count(); ++v)
+      if (norm2(c.vertex(v)) > limit2) return true;
+    return false;
+  };
   if (region_clipper) {
     if (own_region < 0) return fmt::format("cell {} at ({}, {}, {}): its seed lies in no region", i, x.x, x.y, x.z);
     std::string error;
-    if (!region_clipper->clip(i, x, anchor_of(i), own_region, cell, half, sample_.seeds, eps_, *in_regions, error))
+    if (!region_clipper->clip(i, x, anchor_of(i), own_region, cell, half, sample_.seeds, eps_, *in_regions, error)) {
+      beyond = region_clipper->reached_cube();
       return error;
+    }
+    beyond = reaches_beyond(*in_regions);
     return {};
   }
   if (!cut_by_planes_) {
@@ -109,14 +140,20 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
     int32_t facet = -1;
     const CellClipper::Result result =
         clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
+    if (result == CellClipper::Result::ReachesCube) {
+      beyond = true;
+      return {};
+    }
     if (result == CellClipper::Result::HalfSpace && !cut_by_plane(facet))
       return fmt::format("cell {}: clipping by facet plane {} failed", i, facet);
     if (result == CellClipper::Result::Clipped) {
       if (!error.empty()) return error;
       is_clipped = true;
+      beyond = reaches_beyond(clipped);
       return {};
     }
   }
+  // A convex V ∩ D holds the seed: it lies within r of it if the sample is maximal.
   for (size_t f = 0; f < cell.face_count(); ++f)
     if (ConvexCell::is_cube_generator(cell.face_generator(f)))
       return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
@@ -126,8 +163,8 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
   return {};
 }
 
-void CellBuilder::gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const {
-  const double reach2 = reach_ * reach_;
+void CellBuilder::gather_neighbours(int32_t i, Vec3 x, double reach, std::vector<Neighbour>& nb) const {
+  const double reach2 = reach * reach;
   auto keep_if_in_reach = [&](int32_t j) {
     const double d2 = norm2(sample_.seeds[j] - x);
     if (j != i && d2 <= reach2) nb.push_back({d2, j});
@@ -137,7 +174,7 @@ void CellBuilder::gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& n
   g.locate(x, ci, cj, ck);
   const int64_t slot = g.index(ci, cj, ck) - sample_.cube_offset;
   const int s = stencil_span_;
-  if (ci >= s && ci + s < g.nx && cj >= s && cj + s < g.ny && slot >= stencil_reach_ &&
+  if (reach == reach_ && ci >= s && ci + s < g.nx && cj >= s && cj + s < g.ny && slot >= stencil_reach_ &&
       slot + stencil_reach_ < int64_t(sample_.cube_seed.size())) {
     // Most seeds: every cube within reach of the seed's cube, read through index offsets
     // without a branch per cube (six in seven are empty, which a branch mispredicts), then the
@@ -156,10 +193,16 @@ void CellBuilder::gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& n
     nb.resize(kept);
     for (int k = 0; k < n; ++k)
       if (found[k] < -1) sample_.for_seeds_of_entry(found[k], keep_if_in_reach);
-    return;
+  } else {
+    nb.clear();
+    g.for_cubes_near(x, reach, [&](int64_t c) { sample_.for_seeds_in_cube(c, keep_if_in_reach); });
   }
-  nb.clear();
-  g.for_cubes_near(x, reach_, [&](int64_t c) { sample_.for_seeds_in_cube(c, keep_if_in_reach); });
+  // Nearest first, ties by seed. Some 25 neighbours: by insertion (std::sort's partition step
+  // and calls were a tenth of the cells' neighbour search); a long list, as protection seeds
+  // can make, by std::sort.
+  auto nearer = [](const Neighbour& a, const Neighbour& b) { return a.d2 != b.d2 ? a.d2 < b.d2 : a.seed < b.seed; };
+  if (nb.size() > 64) std::sort(nb.begin(), nb.end(), nearer);
+  else insertion_sort(nb.data(), nb.data() + nb.size(), nearer);
 }
 
 }  // namespace froth

@@ -79,8 +79,17 @@ class CellBuilder {
     return p ? 1e-6 * r_ * p->inward : Vec3{};
   }
 
-  // The seeds other than i within reach_ (2r, Lemma 1) of its seed x, in no particular order.
-  void gather_neighbours(int32_t i, Vec3 x, std::vector<Neighbour>& nb) const;
+  // The seeds other than i within `reach` (reach_, 2r, Lemma 1; or more) of its seed x, nearest
+  // first.
+  void gather_neighbours(int32_t i, Vec3 x, double reach, std::vector<Neighbour>& nb) const;
+
+  // Cell i cut by the neighbours `nb` (nearest first) up to its security radius, then clipped;
+  // `extent2` the squared radius of the cut cell, `beyond` set where a part of it in the domain
+  // reaches beyond r of the seed (build() then cuts it by farther seeds).
+  CellError cut_and_clip(int32_t i, std::vector<Neighbour>& nb, ConvexCell& cell, CellClipper* clipper,
+                         ClippedCell& clipped, bool& is_clipped, std::vector<ConvexCell::Names>& names,
+                         RegionClipper* region_clipper, RegionCell* in_regions, int32_t own_region, double& extent2,
+                         bool& beyond) const;
 
   CellError cut_failure(std::string text) const {
     CellError e(std::move(text));

@@ -80,14 +80,17 @@ bool RegionClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, int32_t own, const C
   out.face_start_.assign(1, 0), out.face_vert_.clear(), out.face_loop_.clear();
   out.regions_ = out.pieces_ = 0;
   index_.clear();
+  reached_cube_ = false;
   auto fail_with = [&](const std::string& text) {
     error = fmt::format("cell {} at ({}, {}, {}): {}", seed, x.x, x.y, x.z, text);
     return false;
   };
   auto add_convex = [&](const ConvexCell& c, int32_t region) {
     for (size_t f = 0; f < c.face_count(); ++f)
-      if (ConvexCell::is_cube_generator(c.face_generator(f)))
-        return fail_with("the cell is not closed within r of its seed: the sample is not maximal");
+      if (ConvexCell::is_cube_generator(c.face_generator(f))) {
+        reached_cube_ = true;
+        return false;
+      }
     if (!c.vertex_names(names_))
       return fail_with(fmt::format("a vertex lies on more than {} faces", ConvexCell::kMaxGenerators));
     add_part(c, names_, region, 1, out);
@@ -100,6 +103,9 @@ bool RegionClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, int32_t own, const C
         clippers_[k]->clip(seed, x, anchor, cell, half, seeds, clipped_, facet, error, mine);
     if (!error.empty()) return false;
     switch (result) {
+      case CellClipper::Result::ReachesCube:
+        reached_cube_ = true;
+        return false;
       case CellClipper::Result::Outside:
         break;
       case CellClipper::Result::Inside:

@@ -43,9 +43,11 @@ class RegionClipper {
   // One per thread.
   explicit RegionClipper(const RegionSurfaces& surfaces);
   // Cuts `cell` (relative to seed x, bisector faces only) to every region it meets. `own`: the
-  // region holding the anchor (x + anchor, strictly inside it). False with `error` set on failure.
+  // region holding the anchor (x + anchor, strictly inside it). False with `error` set on failure,
+  // or with reached_cube() (a part reaches the cube around x: CellClipper::Result::ReachesCube).
   bool clip(int32_t seed, Vec3 x, Vec3 anchor, int32_t own, const ConvexCell& cell, double half,
             const std::vector<Vec3>& seeds, double eps, RegionCell& out, std::string& error);
+  bool reached_cube() const { return reached_cube_; }
 
  private:
   template <class Cell>
@@ -58,6 +60,7 @@ class RegionClipper {
   std::vector<ConvexCell::Names> names_;
   std::vector<std::pair<uint64_t, int32_t>> index_;  // (hash of a name, local vertex)
   std::vector<int32_t> local_;
+  bool reached_cube_ = false;
 };
 
 }  // namespace froth

@@ -337,8 +337,8 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (size_t f = 0; f < nf && !poly.empty(); ++f) {
       const Plane& pl = plane[f];
       const int32_t g = cell.face_generator(f);
-      // The bounding cube is met only if the sample is not maximal (the piece inside the
-      // bisectors lies within r of the seed, Lemma 1); checked after the loop.
+      // The bounding cube is met only by a piece of V ∩ D beyond r of the seed, where seeds
+      // farther than 2r may cut V (assembly/cell_builder.cpp); checked after the loop.
       if (ConvexCell::is_cube_generator(g)) continue;
       bool any_out = false, any_in = false;
       double s[64];
@@ -370,8 +370,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
     for (size_t f = 0; f < nf; ++f)
       if (ConvexCell::is_cube_generator(cell.face_generator(f)))
         for (const PolyVertex& v : poly)
-          if (plane[f].signed_distance(v.p) >= 0)
-            return fail_with("the surface reaches beyond r from the seed inside its cell: the sample is not maximal");
+          if (plane[f].signed_distance(v.p) >= 0) return Result::ReachesCube;
     int32_t idx[64];
     for (size_t k = 0; k < poly.size(); ++k) idx[k] = intern(poly[k].key, poly[k].p);
     for (size_t k = 0; k < poly.size(); ++k) {
@@ -574,8 +573,7 @@ CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const C
       if (in) segs.push_back({cur, intern(vnames[v], cell.vertex(v))});
     }
     if (segs.empty()) continue;
-    if (ConvexCell::is_cube_generator(g))
-      return fail_with("the cell is not closed within r of its seed inside the domain: the sample is not maximal");
+    if (ConvexCell::is_cube_generator(g)) return Result::ReachesCube;
     if (!chain_loops(segs, pts.size(), loops, w.chain_leaving, w.chain_used, pts, plane[f].normal))
       return fail_with(fmt::format("the face on generator {} does not close", g));
     drop_seam_points(loops);

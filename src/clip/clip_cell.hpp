@@ -77,7 +77,9 @@ class CellClipper {
   // HalfSpace: the surface near the cell is one facet plane, `facet`, and
   // V ∩ D is V cut by it: the caller cuts it as it cuts a convex domain's cells.
   // Outside: V ∩ D is empty (only when the anchor is outside D).
-  enum class Result { Inside, Clipped, HalfSpace, Outside };
+  // ReachesCube: a piece of V ∩ D reaches the cube: V was cut by too few seeds to be the
+  // Voronoi cell there (the caller cuts it by more, assembly/cell_builder.cpp).
+  enum class Result { Inside, Clipped, HalfSpace, Outside, ReachesCube };
   // Clips `cell` (coordinates relative to seed x; faces from the seeds in `seeds` or from the
   // cube [-half, half]^3) to the domain. `anchor` (relative to x) is a point of the cell strictly
   // inside the domain: the seed itself, or a point just off the surface for a protection seed.
