@@ -73,6 +73,14 @@ std::vector<std::string> notes(const froth::RunReport& run) {
     out.push_back(fmt::format("{} of them are star-shaped from no point (empty kernel): they wrap around a feature "
                               "thinner than r; a smaller r avoids them",
                               run.without_kernel));
+  if (run.sampling.protection_radius_reduced > 0)
+    out.push_back(fmt::format("{} protection seeds lie closer to another than their spacing allows (reflex corners or "
+                              "short reflex curves closer than r/sqrt(2)): their cell data radius is what holds, down "
+                              "to {:.3g} of h",
+                              run.sampling.protection_radius_reduced, run.sampling.smallest_protection_radius));
+  if (run.without_center > 0)
+    out.push_back(fmt::format("{} cells have no point to fan them from: cell data kernel is 0 and center NaN there",
+                              run.without_center));
   return out;
 }
 

@@ -152,6 +152,12 @@ py::dict cell_data(const py::object& self) {
   if (pm.region.size() == n) d["region"] = view_of<int32_t>(self, pm.region);
   if (pm.centers.size() == n) d["center"] = vec3_view(self, pm.centers.data(), n);
   else d["center"] = d["seed"];
+  {
+    py::array_t<uint8_t> kernel(static_cast<py::ssize_t>(n));
+    auto k = kernel.mutable_unchecked<1>();
+    for (size_t c = 0; c < n; ++c) k(py::ssize_t(c)) = pm.has_kernel(c);
+    d["kernel"] = kernel;
+  }
   if (pm.radii.size() == n) d["radius"] = view_of<double>(self, pm.radii);
   else {
     d["radius"] = py::module_::import("numpy").attr("full")(n, m.run.r);

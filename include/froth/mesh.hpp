@@ -84,8 +84,9 @@ struct PolyMesh {
   // each piece is a cell: piece 0 holds the seed, pieces 1, 2, ... follow it with the same seed.
   // Empty when no cell was split.
   std::vector<uint32_t> piece;
-  // A point each cell is star-shaped from (validate.hpp's fan_centers); empty: the seeds, as in
-  // a convex domain, where every cell holds its seed and is convex.
+  // A point each cell is star-shaped from (validate.hpp's fan_centers), NaN for a cell that has
+  // none (an empty kernel); empty: the seeds, as in a convex domain, where every cell holds its
+  // seed and is convex.
   std::vector<Vec3> centers;
   // Each cell's exclusion radius, h at its seed; empty: r for every cell.
   std::vector<double> radii;
@@ -118,6 +119,10 @@ struct PolyMesh {
   uint32_t parent_of(size_t c) const { return parent.empty() ? uint32_t(c) : parent[c]; }
   int32_t region_of(size_t c) const { return region.empty() ? 0 : region[c]; }
   Vec3 center_of(size_t c) const { return centers.empty() ? seeds[c] : centers[c]; }
+  // Is cell c star-shaped from center_of(c)? (Not where its kernel is empty.)
+  bool has_kernel(size_t c) const { return centers.empty() || !std::isnan(centers[c].x); }
+  // A point to sum a cell's signed volumes from: its center, or its seed where it has none.
+  Vec3 fan_origin(size_t c) const { return has_kernel(c) ? center_of(c) : seeds[c]; }
   double radius_of(size_t c, double r) const { return radii.empty() ? r : radii[c]; }
   size_t face_count() const { return face_generator.size(); }
 };
@@ -171,6 +176,11 @@ struct SamplingStats {
   size_t candidates = 0, decision_lookups = 0;
   size_t levels = 0;             // refinement levels used
   size_t uncovered_cubes = 0;    // active cubes left at the finest level (0 = maximal)
+  // Protection seeds closer to another than their spacing h / sqrt(2) allows (reflex corners
+  // and short curves' ends that cluster), whose stated radius is reduced to what holds, and the
+  // smallest such radius over h (1: none).
+  size_t protection_radius_reduced = 0;
+  double smallest_protection_radius = 1;
   double base_cube_side = 0;
   // Base grid cubes per axis, the empty margins (BackgroundGrid::kMargin per side) included.
   std::array<size_t, 3> grid{};
@@ -240,10 +250,15 @@ struct RunReport {
   // welding, and the worst distance / r; of those, cells not star-shaped from any point (their
   // kernel holds no ball of radius 1e-6 r). Always 0 for convex domains.
   size_t not_star_shaped = 0, without_kernel = 0;
+  // Cells given no center (NaN, cell data kernel 0) in the final mesh: no point they fan from.
+  size_t without_center = 0;
   double star_violation = 0;
   size_t faces = 0, points = 0;
   // Seeds whose part of the domain fell in several pieces, and the cells those added (mesh.piece).
   size_t split_seeds = 0, extra_pieces = 0;
+  // Cells cut again by seeds beyond 2r: their part of the domain came back into their cube
+  // beyond r (assembly/cell_builder.cpp).
+  size_t recut_cells = 0;
   // --convex: the cells split, the convex cells they became, the most pieces of one cell, the
   // cells left non-convex (every face plane's cut would pinch a face, leave a face with a hole or
   // a sliver piece) and the smallest piece's volume / r^3.

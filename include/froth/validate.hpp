@@ -41,9 +41,9 @@ struct StarShape {
 StarShape star_shape(const PolyMesh& mesh, double tolerance, size_t begin = 0, size_t end = SIZE_MAX);
 
 // A point of each cell to fan it into tetrahedra from (mesh.centers): its seed where every face
-// plane has the seed on its inner side by more than `tolerance`, else the centre of the largest
-// ball in its kernel (for an empty kernel, counted by star_shape, the point least beyond any
-// face plane).
+// plane has the seed on its inner side by more than `tolerance` (1e-6 r), else the centre of the
+// largest ball in its kernel; NaN for a cell whose kernel holds no ball of radius `tolerance`
+// (empty, counted by star_shape before welding, or too thin to fan from).
 std::vector<Vec3> fan_centers(const PolyMesh& mesh, double tolerance);
 
 }  // namespace froth

@@ -10,7 +10,8 @@
 namespace froth {
 
 CellBuilder::CellBuilder(const Domain& domain, const Sample& sample, double r, bool clip_convex)
-    : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)), reach_(2 * r * (1 + 1e-9)) {
+    : domain_(domain), sample_(sample), r_(r), eps_(tol::on_plane(r)), reach_(2 * r * (1 + 1e-9)),
+      ties_(sample.seeds, tol::seed_tie_band(r)) {
   const BackgroundGrid& g = sample.grid;
   // Cubes (di, dj, dk) away whose distance from the seed's cube is below the reach.
   const int span = int(std::ceil(reach_ / g.side));
@@ -62,6 +63,7 @@ CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipp
   CellError e = cut_and_clip(i, nb, cell, clipper, clipped, is_clipped, names, region_clipper, in_regions, own_region,
                              extent2, beyond);
   if (!beyond) return e;
+  recut_.fetch_add(1, std::memory_order_relaxed);
   // The seeds within 2r cut V to the Voronoi cell within r of x (Lemma 1), which holds all of
   // the cell in D if the sample is maximal; but a part of V ∩ D beyond r of x (behind a wall
   // or across a gap) may belong to a seed farther than 2r. So V is cut again by every seed
@@ -111,7 +113,7 @@ CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbou
     }
     double d = std::sqrt(n.d2);
     Vec3 dir = (1 / d) * (sample_.seeds[n.seed] - x);
-    ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_);
+    ConvexCell::Clip c = cell.clip(dir, d / 2, n.seed, eps_, &ties_, i);
     if (!usable(c)) return cut_failure(fmt::format("cell {}: clipping by the bisector with seed {} failed", i, n.seed));
     if (c == ConvexCell::Clip::Cut) bound = security_bound(cell.new_face_radius2()), exact = false;
   }

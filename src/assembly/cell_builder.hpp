@@ -4,6 +4,7 @@
 // (src/clip), or to every region it meets (assembly/region_cells.hpp). The cells are assembled
 // into one mesh by assembly/tessellation.cpp.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -12,6 +13,7 @@
 
 #include "assembly/region_cells.hpp"
 #include "clip/clip_cell.hpp"
+#include "common/seed_ties.hpp"
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
 #include "sampling/mps.hpp"
@@ -51,6 +53,9 @@ class CellBuilder {
   std::unique_ptr<RegionClipper> make_region_clipper() const {
     return regions_ ? std::make_unique<RegionClipper>(*regions_) : nullptr;
   }
+
+  // How many cells were cut again by seeds beyond 2r (build()).
+  size_t recut_cells() const { return recut_.load(); }
 
   // The region each seed's anchor lies in (a multi-region solid's; empty otherwise).
   std::vector<int32_t> seed_regions() const;
@@ -111,6 +116,8 @@ class CellBuilder {
   std::optional<SurfaceGenerators> generators_;
   std::optional<TriangleGrid> triangles_;
   std::optional<RegionSurfaces> regions_;
+  SeedTies ties_;  // near-cospherical seeds decided alike in every cell
+  mutable std::atomic<size_t> recut_{0};
 };
 
 }  // namespace froth

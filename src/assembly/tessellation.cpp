@@ -287,6 +287,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         if (progress && omp_get_thread_num() == 0) progress(double(finished) / double(nchunks));
       }
     }
+    if (times) times->recut_cells = builder.recut_cells();
     if (!(first_error.failed() && first_error.cut_failed && !clip_convex)) break;
   }
   if (first_error.failed()) fail(first_error.kind, first_error.text);

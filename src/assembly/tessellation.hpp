@@ -13,6 +13,7 @@ struct TessellationTimes {
   double cells = 0;     // seconds computing cells
   size_t cells_peak_rss = 0;  // peak resident memory after computing them
   double assembly = 0;  // seconds giving shared vertices one id
+  size_t recut_cells = 0;  // cells cut again by seeds beyond 2r (assembly/cell_builder.cpp)
 };
 
 // Seeds [begin, end) of a sample; end < 0: all.

@@ -8,6 +8,10 @@ namespace froth::tol {
 // relative to the seed, so round-off is ~1e-16 r; this leaves a wide margin).
 inline double on_plane(double r) { return 1e-11 * r; }
 
+// A seed vertex of a cell (three bisector planes) this close to another seed's bisector is cut
+// or kept by exact predicates (common/seed_ties.hpp), far above the float test's round-off.
+inline double seed_tie_band(double r) { return 1e-8 * r; }
+
 // A cell near a single facet plane is cut by it the quick way, as a convex domain's cells are,
 // only if none of its vertices is this close to the plane: then the general clipper, which its
 // neighbours may use, makes the same cut. The general clipper's round-off grows with the

@@ -56,6 +56,7 @@ std::vector<std::pair<std::string, std::vector<double>>> element_variables(const
   add("centerX", [&](size_t c) { return m.center_of(c).x; });
   add("centerY", [&](size_t c) { return m.center_of(c).y; });
   add("centerZ", [&](size_t c) { return m.center_of(c).z; });
+  add("kernel", [&](size_t c) { return m.has_kernel(c) ? 1.0 : 0.0; });
   add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
   add("piece", [&](size_t c) { return double(m.piece_of(c)); });
   if (m.quality.size() == n) {

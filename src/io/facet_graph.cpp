@@ -46,10 +46,9 @@ FaceGeometry face_geometry(const PolyMesh& m, int64_t f) {
   return g;
 }
 
-// Volume-weighted centroid of cell c: tetrahedra from its `center` (a point it is star-shaped
-// from) to each face's fan.
+// Volume-weighted centroid of cell c: signed tetrahedra from a point of it to each face's fan.
 Vec3 cell_centroid(const PolyMesh& m, size_t c) {
-  const Vec3 o = m.center_of(c);
+  const Vec3 o = m.fan_origin(c);
   Vec3 weighted{};
   double volume = 0;
   for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {

@@ -38,6 +38,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"refinement_levels", s.levels},
                    {"uncovered_cubes", s.uncovered_cubes},
                    {"maximal", s.uncovered_cubes == 0},
+                   {"protection_radius_reduced", s.protection_radius_reduced},
+                   {"smallest_protection_radius_over_h", s.smallest_protection_radius},
                    {"base_cube_side", s.base_cube_side},
                    {"grid", s.grid}};
   for (const auto& l : s.per_level)
@@ -51,6 +53,7 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                {"faces", run.faces},
                {"seeds_split_in_pieces", run.split_seeds},
                {"cells_added_by_pieces", run.extra_pieces},
+               {"cells_cut_by_seeds_beyond_2r", run.recut_cells},
                {"points", run.points}};
   for (const RunReport::Region& r : run.regions)
     j["regions"].push_back({{"name", r.name}, {"cells", r.cells}, {"volume", r.volume}, {"enclosed_volume", r.enclosed}});
@@ -106,7 +109,7 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                    {"volume_fraction_graded", run.sizing.graded_fraction},
                    {"estimated_cell_ratio", run.sizing.cell_ratio}};
   j["star_shaped"] = {{"cells_not_star_shaped", run.not_star_shaped}, {"worst_face_plane_beyond_seed_over_r", run.star_violation},
-                        {"cells_without_kernel", run.without_kernel}};
+                        {"cells_without_kernel", run.without_kernel}, {"cells_without_center", run.without_center}};
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   nlohmann::ordered_json peaks = nlohmann::ordered_json::object();
   for (const auto& st : run.stages) stages[st.stage] = st.seconds, peaks[st.stage] = st.peak_rss_bytes;

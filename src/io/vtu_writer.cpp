@@ -316,6 +316,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
         }
       },
       "Float64", "center", 3);
+  xml << int_cell_array("kernel", [&](size_t c) { return m.has_kernel(c) ? 1 : 0; });
   xml << data_array(
       w, n * 8,
       [&](std::ostream& out) {

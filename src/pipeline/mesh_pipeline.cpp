@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <unordered_map>
 #include <fstream>
 #include <map>
 #include <string>
@@ -123,14 +124,74 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
 }
 
 // Cell data radius: h at each seed (left empty, r for all, when nothing is graded); and which
-// cells have h < r at themselves or a neighbour, fixed before welding removes any face.
-void set_radii(PolyMesh& mesh, const SizingField& sizing) {
-  if (sizing.is_uniform()) return;
-  mesh.radii.resize(mesh.cell_count());
-  for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
-  std::vector<uint8_t> near(mesh.cell_count());
-  for (size_t c = 0; c < mesh.cell_count(); ++c) near[c] = graded_near(mesh, c);
-  mesh.near_graded = std::move(near);
+// cells have h < r at themselves or a neighbour, fixed before welding removes any face. Then the
+// radius a protection seed states is what holds: reflex corners and the ends of short reflex
+// curves can lie closer than r_e = h / sqrt(2) (tessellation noise makes such curves), so a
+// protection seed's radius is min(h, sqrt(2) d) for d its distance to the nearest other one
+// (2 d where either is an interface curve's, sampled at r/2; free seeds keep h from every seed). Returns how many of the seeds of cells [begin, end) were
+// so reduced, and the smallest reduced radius over h in `smallest`.
+size_t set_radii(PolyMesh& mesh, const SizingField& sizing, double r, size_t begin, size_t end, double& smallest) {
+  if (!sizing.is_uniform()) {
+    mesh.radii.resize(mesh.cell_count());
+    for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.radii[c] = sizing.at(mesh.seeds[c]);
+    std::vector<uint8_t> near(mesh.cell_count());
+    for (size_t c = 0; c < mesh.cell_count(); ++c) near[c] = graded_near(mesh, c);
+    mesh.near_graded = std::move(near);
+  }
+  auto protection = [&](size_t c) {
+    const CellKind k = mesh.kinds[c];
+    return mesh.piece_of(c) == 0 && (k == CellKind::Edge || k == CellKind::Vertex || k == CellKind::InterfaceFace ||
+                                     k == CellKind::InterfaceEdge);
+  };
+  // Protection seeds in cubes of side r / sqrt(2): a nearer one that matters is in the 27 around.
+  const double side = r / std::sqrt(2.0);
+  if (std::none_of(mesh.kinds.begin(), mesh.kinds.end(), [](CellKind k) { return k != CellKind::Interior && k != CellKind::Fringe; }))
+    return smallest = 1, 0;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cubes;
+  auto key = [&](int64_t i, int64_t j, int64_t k) { return (uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u); };
+  auto cube_of = [&](Vec3 p, int64_t& i, int64_t& j, int64_t& k) {
+    i = int64_t(std::floor(p.x / side)), j = int64_t(std::floor(p.y / side)), k = int64_t(std::floor(p.z / side));
+  };
+  std::vector<uint32_t> cells;
+  for (size_t c = 0; c < mesh.cell_count(); ++c)
+    if (protection(c)) {
+      int64_t i, j, k;
+      cube_of(mesh.seeds[c] - mesh.seeds[0], i, j, k);
+      cubes[key(i, j, k)].push_back(uint32_t(c));
+      cells.push_back(uint32_t(c));
+    }
+  std::vector<std::pair<uint32_t, double>> reduced;
+  for (uint32_t c : cells) {
+    const Vec3 x = mesh.seeds[c];
+    int64_t i, j, k;
+    cube_of(x - mesh.seeds[0], i, j, k);
+    double d2 = INFINITY;
+    for (int64_t a = -1; a <= 1; ++a)
+      for (int64_t b = -1; b <= 1; ++b)
+        for (int64_t e = -1; e <= 1; ++e) {
+          const auto it = cubes.find(key(i + a, j + b, k + e));
+          if (it == cubes.end()) continue;
+          for (uint32_t o : it->second) {
+            // Interface curves are sampled at r/2 (sampling/protect_interfaces.hpp), the rest at r_e.
+            const bool curve = mesh.kinds[c] == CellKind::InterfaceEdge || mesh.kinds[o] == CellKind::InterfaceEdge;
+            if (o != c) d2 = std::min(d2, (curve ? 4 : 2) * norm2(mesh.seeds[o] - x));
+          }
+        }
+    const double h = mesh.radius_of(c, r), held = std::sqrt(d2);
+    if (held < h) reduced.push_back({c, held});
+  }
+  size_t count = 0;
+  smallest = 1;
+  if (reduced.empty()) return 0;
+  if (mesh.radii.empty()) {
+    mesh.radii.assign(mesh.cell_count(), r);
+    mesh.near_graded.assign(mesh.cell_count(), 0);  // the bounds are judged as without the reduction
+  }
+  for (auto [c, held] : reduced) {
+    if (c >= begin && c < end) ++count, smallest = std::min(smallest, held / mesh.radii[c]);
+    for (size_t q = c; q < mesh.cell_count() && mesh.seeds[q] == mesh.seeds[c]; ++q) mesh.radii[q] = held;
+  }
+  return count;
 }
 
 // A piece of a cell smaller than a cube of 4 weld tolerances could collapse under welding: it
@@ -221,6 +282,8 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   // Where cells may not hold their seed in their kernel (non-convex domains), the point to fan
   // each from.
   if (!domain.convex) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
+  run.without_center = 0;
+  for (size_t c = 0; c < mesh.centers.size(); ++c) run.without_center += !mesh.has_kernel(c);
   assign_border_patches(domain.regions ? domain.regions->boundary : domain, mesh);
   MeshCheck check = check_mesh(mesh);
   run.stages.push_back({"validation", watch.lap(), peak_rss_bytes()});
@@ -336,10 +399,12 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   progress("cells");
   TessellationTimes tt;
   PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt), going("cells"));
-  set_radii(mesh, sizing);
+  run.sampling.protection_radius_reduced =
+      set_radii(mesh, sizing, opt.r, 0, mesh.cell_count(), run.sampling.smallest_protection_radius);
   mesh.random_seed = opt.seed;
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
+  run.recut_cells = tt.recut_cells;
   measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
   watch.lap();
 
@@ -406,12 +471,15 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   TessellationTimes tt;
   PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt),
                                      progress_of(opt, "cells"));
-  set_radii(ring, sizing);
   ring.random_seed = opt.seed;
   // The owned seeds' cells, pieces included (a seed's pieces follow it).
   const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
                own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));
+  double smallest = 1;
+  run.sampling.protection_radius_reduced = comm.sum(set_radii(ring, sizing, opt.r, own_begin, own_end, smallest));
+  run.sampling.smallest_protection_radius = -comm.max(-smallest);
   run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
+  run.recut_cells = comm.sum(tt.recut_cells);  // with each rank's ghost ring, as welding counts
   run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
   measure_star_shape(domain, ring, opt, run, own_begin, own_end);
   watch.lap();

@@ -272,7 +272,7 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
   out.put(part);
   out.put(mine.cells), out.put(mine.interior_cells), out.put(mine.fringe_cells), out.put(mine.edge_cells),
       out.put(mine.vertex_cells), out.put(mine.faces), out.put(mine.points), out.put(mine.not_star_shaped),
-      out.put(mine.without_kernel), out.put(mine.split_seeds), out.put(mine.extra_pieces);
+      out.put(mine.without_kernel), out.put(mine.split_seeds), out.put(mine.extra_pieces), out.put(mine.without_center);
   out.put(mine.volume_sum), out.put(mine.border_area), out.put(mine.star_violation), out.put(mine.total_seconds),
       out.put(mine.peak_rss_bytes), out.put(mine.weld_aspect_shift), out.put(mine.weld_dihedral_shift);
   // A multi-region solid's counts per region and interface (an interface face joins two parts of
@@ -294,6 +294,7 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
   run = mine;
   run.cells = run.interior_cells = run.fringe_cells = run.edge_cells = run.vertex_cells = 0;
   run.faces = run.points = run.not_star_shaped = run.without_kernel = run.split_seeds = run.extra_pieces = 0;
+  run.without_center = 0;
   run.volume_sum = run.border_area = run.star_violation = run.total_seconds = 0;
   run.peak_rss_bytes = 0;
   run.weld_aspect_shift = run.weld_dihedral_shift = 0;
@@ -308,11 +309,11 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
     PartitionReport p;
     in.get(p);
     sum.ranks.push_back(p);
-    size_t n[11];
+    size_t n[12];
     for (size_t& v : n) in.get(v);
     run.cells += n[0], run.interior_cells += n[1], run.fringe_cells += n[2], run.edge_cells += n[3];
     run.vertex_cells += n[4], run.faces += n[5], run.points += n[6], run.not_star_shaped += n[7];
-    run.without_kernel += n[8], run.split_seeds += n[9], run.extra_pieces += n[10];
+    run.without_kernel += n[8], run.split_seeds += n[9], run.extra_pieces += n[10], run.without_center += n[11];
     double volume, area, star, seconds, aspect_shift, dihedral_shift;
     size_t peak;
     in.get(volume), in.get(area), in.get(star), in.get(seconds), in.get(peak), in.get(aspect_shift),

@@ -2,6 +2,7 @@
 #include "froth/validate.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 
 #include <fmt/format.h>
@@ -85,13 +86,14 @@ std::vector<Vec3> fan_centers(const PolyMesh& m, double tolerance) {
       cell_planes(m, c, x, tolerance * tolerance, normals, offsets);
       // The seed, when it is inside every face plane by the tolerance (a seed on the surface is
       // not: a fan from it has flat tetrahedra); else the centre of the largest ball in the
-      // kernel; for an empty kernel, the point least beyond any face plane (the same program).
-      if (offsets.empty() || *std::min_element(offsets.begin(), offsets.end()) > tolerance) {
-        centers[c] = x;
-        continue;
+      // kernel; for a kernel that holds no ball of radius `tolerance` (empty, or too thin to fan
+      // from), none: NaN.
+      Vec3 o = x;
+      if (!offsets.empty() && *std::min_element(offsets.begin(), offsets.end()) <= tolerance) {
+        const InscribedBall ball = largest_inscribed_ball(normals, offsets);
+        o = ball.ok && ball.radius > tolerance ? x + ball.center : Vec3{NAN, NAN, NAN};
       }
-      const InscribedBall ball = largest_inscribed_ball(normals, offsets);
-      centers[c] = ball.ok ? x + ball.center : x;
+      centers[c] = o;
     }
   }
   return centers;

@@ -41,7 +41,8 @@ void ConvexCell::reset_cube(double h) {
   faces_valid_ = rmax_valid_ = false;
 }
 
-ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, double eps) {
+ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, double eps, const TieBreaker* ties,
+                                  int32_t self) {
   const size_t nt = tri_.size();
   sd_.resize(nt);
   out_.resize(nt);
@@ -55,6 +56,8 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
   double* sd = sd_.data();
   const Vec3* pos = pos_.data();
   for (size_t t = 0; t < nt; ++t) sd[t] = dot(n, pos[t]) - offset;
+  const double band = ties && generator >= 0 ? ties->band() : -1;
+  bool near = false;
   for (size_t t = 0; t < nt; ++t) {
     const double s = sd[t];
     const bool o = s > eps;
@@ -62,6 +65,26 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
     slots_[n_out] = uint16_t(t);
     n_out += o;
     any_in |= s < -eps;
+    near |= std::abs(s) <= band;
+  }
+  bool any_exact = false;
+  if (near) {
+    // Seed vertices near the plane, decided exactly (TieBreaker); the rest as above.
+    exact_.assign(nt, 0);
+    n_out = 0, any_in = false;
+    for (size_t t = 0; t < nt; ++t) {
+      const double s = sd[t];
+      int decided = 0;
+      const Tri& v = tri_[t];
+      if (std::abs(s) <= band && planes_[v.p[0]].gen >= 0 && planes_[v.p[1]].gen >= 0 && planes_[v.p[2]].gen >= 0)
+        decided = ties->conflict(self, planes_[v.p[0]].gen, planes_[v.p[1]].gen, planes_[v.p[2]].gen, generator);
+      exact_[t] = decided != 0;
+      any_exact |= decided != 0;
+      const bool o = decided ? decided > 0 : s > eps;
+      out_[t] = o;
+      if (o) slots_[n_out++] = uint16_t(t);
+      any_in |= decided ? decided < 0 : s < -eps;
+    }
   }
   if (n_out == 0) return Clip::Unchanged;
   if (!any_in) return Clip::Empty;
@@ -90,7 +113,15 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
       // The new vertex on the edge from o (kept) to t (removed); a vertex on the plane is its
       // own crossing (snapping).
       Vec3 p = pos_[o];
-      if (sd_[o] < -eps) p = p + (sd_[o] / (sd_[o] - sd_[t])) * (pos_[t] - pos_[o]);
+      if (any_exact && (exact_[o] || exact_[t])) {
+        // A tie decided exactly: the crossing strictly inside the edge, never at a vertex
+        // (snapped points would be merged into a vertex of more seeds).
+        const double den = sd_[o] - sd_[t];
+        const double u = std::clamp(den < 0 ? sd_[o] / den : 0.5, 1e-9, 1 - 1e-9);
+        p = p + u * (pos_[t] - pos_[o]);
+      } else if (sd_[o] < -eps) {
+        p = p + (sd_[o] / (sd_[o] - sd_[t])) * (pos_[t] - pos_[o]);
+      }
       border_.push_back({u, v, uint8_t(slot), o, p});
       new_face_radius2 = std::max(new_face_radius2, norm2(p));
     }

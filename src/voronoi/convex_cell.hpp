@@ -52,11 +52,25 @@ class ConvexCell {
 
   enum class Clip { Unchanged, Cut, Empty, Failed };
 
+  // Decides near ties between seeds exactly (common/seed_ties.hpp): a vertex whose three planes
+  // are seed bisectors, within band() of a seed's bisector, is cut or kept as conflict() says,
+  // never snapped onto the plane, so every cell around it decides alike. Generators >= 0 are
+  // seeds; the cell's own seed is `self` in clip().
+  struct TieBreaker {
+    virtual ~TieBreaker() = default;
+    virtual double band() const = 0;
+    // +1 / -1: seed e is / is not in conflict with the vertex of seeds a, b, c, d; 0: undecided.
+    virtual int conflict(int32_t a, int32_t b, int32_t c, int32_t d, int32_t e) const = 0;
+  };
+
   // The cube [-half, half]^3.
   void reset_cube(double half);
   // Keeps {p : dot(normal, p) <= offset}; `normal` should be of unit length so `eps` is a
   // distance.
-  Clip clip(Vec3 normal, double offset, int32_t generator, double eps);
+  // With `ties`, a seed's bisector (generator >= 0) decides the near ties of seed vertices
+  // exactly; `self` is the cell's seed.
+  Clip clip(Vec3 normal, double offset, int32_t generator, double eps, const TieBreaker* ties = nullptr,
+            int32_t self = -1);
 
   // The largest squared distance of a vertex from the origin (the seed).
   double max_radius2() const;
@@ -112,6 +126,7 @@ class ConvexCell {
   // Scratch, kept to avoid allocation in the hot loop.
   std::vector<double> sd_;
   std::vector<uint8_t> out_;
+  std::vector<uint8_t> exact_;  // per vertex, in a cut with ties: decided by the tie-breaker
   struct Border {  // an edge of the removed region: from plane u to plane v
     uint8_t u, v, outer_slot;
     uint16_t outer;

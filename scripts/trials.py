@@ -1,0 +1,150 @@
+#!/usr/bin/env python3
+"""The random-trial campaign: froth run as users draw it, over many parts.
+
+  python3 scripts/trials.py N [--seed S] [--froth build/froth] [--work DIR] [--jobs J]
+                              [--cells LO HI] [--check] [--quiet]
+
+Each trial draws (part, cell count, seed, --grade, --weld, threads) from a stream seeded by S and
+runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
+regions as one multi-region run), the real public parts of tests/data/corpus, and the hard shapes
+of scripts/hard_shapes.py (made in the work folder). A trial fails if froth exits with any code but
+0: every part is valid. With --check each mesh is also read back with VTK (/usr/bin/python3 with
+python3-vtk9, scripts/check_mesh.py) and its stated local guarantees checked. Every failing trial
+is printed as the command that replays it; the last line is the count. Exit 1 if any failed.
+"""
+import argparse
+import concurrent.futures
+import gzip
+import hashlib
+import json
+import math
+import os
+import random
+import shlex
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MODELS = os.path.join(ROOT, "tests", "data", "models")
+CORPUS = os.path.join(ROOT, "tests", "data", "corpus")
+# The valid test models (the others are broken on purpose).
+VALID_MODELS = ["unit_cube.STL", "unit_sphere.STL", "7_8ths_cube.stl", "shape_ibeam.stl", "torus.STL",
+                "plate_holes.STL", "round.stl", "hollow_sphere.off", "two_objects_mixed_case_names.stl",
+                "joined_tetrahedra.obj", "step.off", "1002_tray_bottom.STL", "ADIS16480.STL", "hinge.stl"]
+HEATER = ["bottomAir.stl", "topAir.stl", "heater.stl", "leftSolid.stl", "rightSolid.stl"]
+
+
+def unpack_corpus(work):
+    """The corpus parts, unpacked into work/parts and checked against SHA256SUMS."""
+    out = os.path.join(work, "parts")
+    os.makedirs(out, exist_ok=True)
+    sums = {}
+    with open(os.path.join(CORPUS, "SHA256SUMS")) as f:
+        for line in f:
+            digest, name = line.split()
+            sums[name] = digest
+    paths = []
+    for name, digest in sorted(sums.items()):
+        path = os.path.join(out, name)
+        if not os.path.exists(path) or hashlib.sha256(open(path, "rb").read()).hexdigest() != digest:
+            data = gzip.open(os.path.join(CORPUS, name + ".gz")).read()
+            if hashlib.sha256(data).hexdigest() != digest:
+                sys.exit("trials: %s.gz does not match its SHA256SUMS line" % name)
+            with open(path, "wb") as f:
+                f.write(data)
+        paths.append(path)
+    return paths
+
+
+def parts(work):
+    hard = os.path.join(work, "hard")
+    subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "hard_shapes.py"), hard], check=True)
+    out = [[os.path.join(MODELS, m)] for m in VALID_MODELS]
+    out.append([os.path.join(MODELS, "multi_region_heater", m) for m in HEATER])
+    out += [[p] for p in unpack_corpus(work)]
+    out += [[os.path.join(hard, f)] for f in sorted(os.listdir(hard))]
+    return out
+
+
+def draw(rng, all_parts, lo, hi):
+    part = rng.choice(all_parts)
+    cells = int(round(math.exp(rng.uniform(math.log(lo), math.log(hi)))))
+    options = ["--cells", str(cells), "--seed", str(rng.getrandbits(32))]
+    if rng.random() < 0.25:
+        options.append("--grade")
+    weld = rng.random()
+    if weld < 0.3:
+        options += ["--weld", "0"]
+    options += ["--threads", str(rng.choice([1, 2]))]
+    return part, options
+
+
+def run_trial(froth, work, k, part, options, check, timeout):
+    vtu = os.path.join(work, "trial_%d.vtu" % k)
+    report = os.path.join(work, "trial_%d.json" % k)
+    cmd = [froth, "mesh", *part, *options, "-o", vtu, "--report", report, "--quiet"]
+    t0 = time.time()
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        rc, message = p.returncode, (p.stderr.strip().splitlines() or [""])[-1]
+    except subprocess.TimeoutExpired:
+        rc, message = "timeout", "no answer within %d s" % timeout
+    seconds = time.time() - t0
+    problems = []
+    if rc == 0 and check:
+        c = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "check_mesh.py"), vtu],
+                           capture_output=True, text=True)
+        if c.returncode != 0:
+            problems = (c.stdout + c.stderr).strip().splitlines()[-5:]
+    for f in (vtu, report):
+        if os.path.exists(f):
+            os.remove(f)
+    replay = " ".join(shlex.quote(os.path.relpath(a, ROOT) if os.path.isabs(a) and a.startswith(ROOT) else a)
+                      for a in [froth, "mesh", *part, *options])
+    return {"trial": k, "rc": rc, "message": message, "seconds": round(seconds, 3), "replay": replay,
+            "problems": problems}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("n", type=int)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--froth", default=os.path.join(ROOT, "build", "froth"))
+    ap.add_argument("--work", default=os.path.join(ROOT, "build", "trials"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--cells", type=float, nargs=2, default=[1e3, 5e4], metavar=("LO", "HI"))
+    ap.add_argument("--check", action="store_true", help="read each mesh back and check its stated guarantees")
+    ap.add_argument("--timeout", type=int, default=900)
+    ap.add_argument("--quiet", action="store_true")
+    a = ap.parse_args()
+    froth = os.path.abspath(a.froth)
+    os.makedirs(a.work, exist_ok=True)
+    all_parts = parts(a.work)
+    rng = random.Random(a.seed)
+    trials = [draw(rng, all_parts, *a.cells) for _ in range(a.n)]
+    log = open(os.path.join(a.work, "trials_seed%d.jsonl" % a.seed), "w")
+    failed = 0
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        futures = [pool.submit(run_trial, froth, a.work, k, part, opt, a.check, a.timeout)
+                   for k, (part, opt) in enumerate(trials)]
+        for fut in futures:
+            r = fut.result()
+            log.write(json.dumps(r) + "\n")
+            log.flush()
+            bad = r["rc"] != 0 or r["problems"]
+            failed += bool(bad)
+            if bad:
+                print("FAIL trial %d (exit %s): %s\n  %s" % (r["trial"], r["rc"], r["replay"],
+                                                          r["message"] or "; ".join(r["problems"])), flush=True)
+                for line in r["problems"]:
+                    print("    " + line)
+            elif not a.quiet:
+                print("ok   trial %d %.1f s: %s" % (r["trial"], r["seconds"], r["replay"]), flush=True)
+    print("trials: %d of %d failed (seed %d, %d parts, cells %g to %g%s)" %
+          (failed, a.n, a.seed, len(all_parts), a.cells[0], a.cells[1], ", checked" if a.check else ""))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
