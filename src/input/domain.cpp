@@ -191,11 +191,11 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   // Nesting: a shell inside an odd number of others bounds a cavity. Orientation is taken from
   // nesting, never trusted to the file: outer shells face out, cavity shells into the cavity.
   std::vector<double> volume6(shells, 0);
-  std::vector<int32_t> first_vertex(shells, -1);
+  std::vector<std::vector<int32_t>> triangles_of(shells);
   for (size_t t = 0; t < T.size(); ++t) {
     auto [a, b, c] = T[t];
     volume6[component[t]] += dot(V[a], cross(V[b], V[c]));
-    if (first_vertex[component[t]] < 0) first_vertex[component[t]] = a;
+    if (triangles_of[component[t]].size() < 8) triangles_of[component[t]].push_back(int32_t(t));
   }
   Box b{V[0], V[0]};
   for (Vec3 p : V) {
@@ -206,14 +206,19 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   for (int32_t c = 0; c < shells; ++c) {
     size_t depth = 0;
     if (shells > 1) {
-      const Vec3 p = V[first_vertex[c]];
+      // Rays from a point inside one of the shell's triangles: a vertex may be shared with
+      // another shell that touches it there (trimesh's box.STL), and every ray from it grazes.
       std::optional<size_t> n;
-      for (int attempt = 0; !n && attempt < 16; ++attempt) {
-        // Fixed, irrational-looking directions: deterministic and unlikely to graze anything.
-        const double u = 0.6180339887 * (attempt + 1), w = 0.4142135623 * (attempt + 1);
-        const Vec3 dir{std::cos(2 * M_PI * u) * std::sin(M_PI * w), std::sin(2 * M_PI * u) * std::sin(M_PI * w),
-                       std::cos(M_PI * w)};
-        n = crossings(s, component, c, p, p + 2 * (b.diagonal() + 1) * dir);
+      for (size_t k = 0; !n && k < triangles_of[c].size(); ++k) {
+        const auto [ta, tb, tc] = T[size_t(triangles_of[c][k])];
+        const Vec3 p = (1.0 / 3) * (V[ta] + V[tb] + V[tc]);
+        for (int attempt = 0; !n && attempt < 16; ++attempt) {
+          // Fixed, irrational-looking directions: deterministic and unlikely to graze anything.
+          const double u = 0.6180339887 * (attempt + 1), w = 0.4142135623 * (attempt + 1);
+          const Vec3 dir{std::cos(2 * M_PI * u) * std::sin(M_PI * w), std::sin(2 * M_PI * u) * std::sin(M_PI * w),
+                         std::cos(M_PI * w)};
+          n = crossings(s, component, c, p, p + 2 * (b.diagonal() + 1) * dir);
+        }
       }
       if (!n) fail(ErrorKind::Internal, fmt::format("{}: could not decide which shells enclose shell {}", name, c));
       depth = *n;

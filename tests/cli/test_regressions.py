@@ -60,5 +60,13 @@ for x0 in ("1e15", "1e12"):
     check(not os.path.exists(os.path.join(tmp, "far.vtu")), f"box at x = {x0}: a file was written")
 meshed_and_checked("box at x = 1e6", "box:1e6,0,0,1000001,1,1", "-r", "0.1")
 
+# Shells touching at a vertex: nesting was decided by rays from that vertex, which all grazed the
+# other shell (exit 5 before the surface's own defect was named); now rays from inside a triangle.
+broken = os.path.join(tmp, "self_intersecting_shells.STL")
+with open(broken, "wb") as f:
+    f.write(gzip.open(os.path.join(corpus, "..", "self_intersecting_shells.STL.gz")).read())
+p = froth("mesh", broken, "--cells", "2000", "-o", os.path.join(tmp, "b.vtu"))
+check(p.returncode == 3 and "intersects itself" in p.stderr, f"touching shells: exit {p.returncode}: {p.stderr.strip()}")
+
 shutil.rmtree(tmp)
 sys.exit(summary())
