@@ -27,21 +27,23 @@ def cell_array(grid, name):
 
 
 def faces_of(grid):
-    """Per cell, its faces as arrays of point ids (VTK's legacy face stream)."""
+    """Every face as (its cell, its point ids), flattened: (face_cell, face_start, ids) with face
+    f's ids at ids[face_start[f]:face_start[f + 1]], faces in cell order (VTK's face stream)."""
     stream = vtk_to_numpy(grid.GetFaces())
     where = vtk_to_numpy(grid.GetFaceLocations())
-    out = []
+    starts, lengths, cells = [], [], []
     for c in range(grid.GetNumberOfCells()):
         at = int(where[c])
-        n = int(stream[at])
-        at += 1
-        faces = []
-        for _ in range(n):
-            m = int(stream[at])
-            faces.append(stream[at + 1:at + 1 + m])
+        for _ in range(int(stream[at])):
+            m = int(stream[at + 1])
+            starts.append(at + 2)
+            lengths.append(m)
+            cells.append(c)
             at += 1 + m
-        out.append(faces)
-    return out
+    starts, lengths = np.array(starts, dtype=np.int64), np.array(lengths, dtype=np.int64)
+    face_start = np.concatenate([[0], np.cumsum(lengths)])
+    ids = stream[np.repeat(starts - face_start[:-1], lengths) + np.arange(face_start[-1])]
+    return np.array(cells, dtype=np.int64), face_start, ids
 
 
 def main():
@@ -78,28 +80,26 @@ def main():
         problems.append("kernel: %d cells without a kernel give a center" % (no_kernel & ~given_nan).sum())
     if (given_nan & ~no_kernel).any():
         problems.append("kernel: %d cells give no center but are not marked kernel 0" % (given_nan & ~no_kernel).sum())
-    bad, worst = 0, 0.0
-    for c, faces in enumerate(faces_of(grid)):
-        if given_nan[c]:
-            continue
-        x = center[c]
-        beyond = []
-        for f in faces:
-            p = points[f]
-            n = np.cross(p, np.roll(p, -1, axis=0)).sum(axis=0) / 2  # Newell: area times the normal
-            area = np.linalg.norm(n)
-            if area < 1e-12 * r * r:
-                continue  # a sliver's plane is round-off
-            beyond.append(np.dot(n / area, x - p.mean(axis=0)))
-        beyond = np.array(beyond)
-        if beyond.size and (beyond > 0).sum() > (beyond < 0).sum():
-            beyond = -beyond  # faces wound inward
-        if beyond.size and beyond.max() > 1e-9 * r:
-            bad += 1
-            worst = max(worst, beyond.max() / r)
-    if bad:
+    face_cell, face_start, ids = faces_of(grid)
+    lengths = np.diff(face_start)
+    p = points[ids]
+    nxt = np.arange(len(ids)) + 1
+    nxt[face_start[1:] - 1] = face_start[:-1]  # each face's last vertex to its first
+    n = np.add.reduceat(np.cross(p, p[nxt]), face_start[:-1]) / 2  # Newell: area times the normal
+    centroid = np.add.reduceat(p, face_start[:-1]) / lengths[:, None]
+    area = np.linalg.norm(n, axis=1)
+    x = center[face_cell]
+    # Faces wound inward, cell by cell: the signed volume from the center.
+    cell_first = np.searchsorted(face_cell, np.arange(len(seed)))
+    volume = np.add.reduceat(np.einsum("ij,ij->i", centroid - x, n), cell_first) / 3
+    sign = np.where(volume[face_cell] < 0, -1.0, 1.0)
+    beyond = sign * np.einsum("ij,ij->i", n, x - centroid) / np.where(area > 0, area, 1)
+    beyond[(area < 1e-12 * r * r) | given_nan[face_cell]] = -np.inf  # a sliver's plane is round-off
+    worst_of = np.maximum.reduceat(beyond, cell_first)
+    bad_cells = worst_of > 1e-9 * r
+    if bad_cells.any():
         problems.append("star shape: %d cells are not star-shaped from their center (it lies %.3g r beyond a face's "
-                        "plane)" % (bad, worst))
+                        "plane)" % (bad_cells.sum(), worst_of.max() / r))
     for p in problems:
         print(p)
     print("%s: %d cells, %s" % (sys.argv[1], len(seed), "all local guarantees hold" if not problems else
