@@ -221,7 +221,7 @@ PYBIND11_MODULE(_froth, m) {
          double feature_angle, bool repair) {
         froth::TriangleSurface s = surface_of(vertices, triangles);
         py::gil_scoped_release unlocked;
-        return froth::domain_from_surface(s, name, {feature_angle, repair});
+        return froth::domain_anywhere(s, name, {feature_angle, repair});
       },
       py::arg("vertices"), py::arg("triangles"), py::arg("name") = "surface",
       py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);

@@ -82,13 +82,15 @@ def main():
         problems.append("kernel: %d cells give no center but are not marked kernel 0" % (given_nan & ~no_kernel).sum())
     face_cell, face_start, ids = faces_of(grid)
     lengths = np.diff(face_start)
-    p = points[ids]
+    # Relative to each face's cell center (far from the origin, products of coordinates cancel).
+    x = center[face_cell]
+    p = points[ids] - np.repeat(np.nan_to_num(x), lengths, axis=0)
     nxt = np.arange(len(ids)) + 1
     nxt[face_start[1:] - 1] = face_start[:-1]  # each face's last vertex to its first
     n = np.add.reduceat(np.cross(p, p[nxt]), face_start[:-1]) / 2  # Newell: area times the normal
     centroid = np.add.reduceat(p, face_start[:-1]) / lengths[:, None]
     area = np.linalg.norm(n, axis=1)
-    x = center[face_cell]
+    x = np.where(np.isnan(x), np.nan, 0.0)  # the center, in these coordinates
     # Faces wound inward, cell by cell: the signed volume from the center.
     cell_first = np.searchsorted(face_cell, np.arange(len(seed)))
     volume = np.add.reduceat(np.einsum("ij,ij->i", centroid - x, n), cell_first) / 3

@@ -65,6 +65,10 @@ struct Domain {
   size_t shells = 1, cavities = 0;
   size_t reoriented_triangles = 0;      // flipped by --repair
   Box bounds;
+  // The input's coordinates are the stored ones plus `origin`: a part far from the origin (beyond
+  // 8 times its size) is stored relative to a corner of it, exactly (load_domain), so that its
+  // cells are computed in coordinates of its own size; the mesh is moved back when it is made.
+  Vec3 origin{};
   double volume = 0;
   double surface_area = 0;
   std::shared_ptr<const SurfaceLocator> locator;  // inside tests and nearby triangles
@@ -127,6 +131,10 @@ Domain parse_box_spec(const std::string& spec);
 // get protection seeds. Throws Error(InvalidInput) naming the first defect and where it is, or
 // Error(Usage) for a feature angle outside (0, 180). `name` is used in error messages.
 Domain domain_from_surface(const TriangleSurface& surface, const std::string& name, const DomainOptions& options = {});
+
+// domain_from_surface's domain, stored relative to the part where it lies far from the origin
+// (Domain::origin), as load_domain stores a file's.
+Domain domain_anywhere(const TriangleSurface& surface, const std::string& name, const DomainOptions& options = {});
 
 // A box spec or a surface file, whichever `input` names. A file whose shells share triangles
 // (listed twice, opposite ways: two solids touching along a face) is a multi-region solid, one

@@ -41,6 +41,50 @@ TriangleSurface box_surface(const Box& b) {
 
 }  // namespace
 
+namespace {
+
+// Per axis, the part's face nearer the origin where the part lies beyond 8 times its size from
+// it, else 0: a coordinate minus it is then exact (Sterbenz: both within a factor 2 of each
+// other), so the part moved by it is the same solid, exactly, in coordinates of its own size.
+Vec3 far_origin(const Box& b) {
+  const Vec3 size = b.size();
+  const double extent = std::max({size.x, size.y, size.z});
+  Vec3 o{};
+  for (int a = 0; a < 3; ++a) {
+    if (b.lo[a] > 0 && b.lo[a] >= 8 * extent) o[a] = b.lo[a];
+    if (b.hi[a] < 0 && -b.hi[a] >= 8 * extent) o[a] = b.hi[a];
+  }
+  return o;
+}
+
+Box bounds_of(const std::vector<TriangleSurface>& surfaces) {
+  Box b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+  for (const TriangleSurface& s : surfaces)
+    for (Vec3 p : s.vertices)
+      for (int a = 0; a < 3; ++a)
+        if (std::isfinite(p[a])) b.lo[a] = std::min(b.lo[a], p[a]), b.hi[a] = std::max(b.hi[a], p[a]);
+  return b;
+}
+
+// The domain `build` makes of `surfaces`, stored relative to far_origin of them. A far part is
+// built as given first, so that its defects are named in the input's own coordinates (the exact
+// predicates decide alike on the moved copy, which is then built).
+template <class Build>
+Domain relative_to_part(const std::vector<TriangleSurface>& surfaces, Build&& build) {
+  const Box b = bounds_of(surfaces);
+  const Vec3 o = b.lo.x <= b.hi.x ? far_origin(b) : Vec3{};
+  if (o.x == 0 && o.y == 0 && o.z == 0) return build(surfaces);
+  (void)build(surfaces);
+  std::vector<TriangleSurface> moved = surfaces;
+  for (TriangleSurface& s : moved)
+    for (Vec3& p : s.vertices) p = p - o;
+  Domain d = build(moved);
+  d.origin = o;
+  return d;
+}
+
+}  // namespace
+
 Domain make_box_domain(Vec3 lo, Vec3 hi) {
   if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
     fail(ErrorKind::Usage, fmt::format("box: lower corner {} must be below upper corner {} on every axis",
@@ -364,13 +408,21 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
   check_feature_angle(options.feature_angle);
   if (input.rfind("box:", 0) == 0) {
     Domain d = parse_box_spec(input);
+    const Vec3 o = far_origin(d.bounds);
+    if (o.x != 0 || o.y != 0 || o.z != 0) {
+      const std::string description = d.description;
+      d = make_box_domain(d.bounds.lo - o, d.bounds.hi - o);
+      d.description = description, d.origin = o;
+    }
     find_features(d, options.feature_angle);
     return d;
   }
   const TriangleSurface surface = read_surface(input);
   const std::string name = std::filesystem::path(input).filename().string();
-  if (has_shared_triangles(surface)) return regions_from_shared_triangles(surface, name, options);
-  return domain_from_surface(surface, name, options);
+  return relative_to_part({surface}, [&](const std::vector<TriangleSurface>& s) {
+    if (has_shared_triangles(s[0])) return regions_from_shared_triangles(s[0], name, options);
+    return domain_from_surface(s[0], name, options);
+  });
 }
 
 Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions& options) {
@@ -390,7 +442,13 @@ Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions&
     for (size_t k = 0; k + 1 < names.size(); ++k)
       if (names[k] == names.back()) names.back() += fmt::format("_{}", names.size() - 1);
   }
-  return domain_from_regions(surfaces, names, options);
+  return relative_to_part(surfaces,
+                          [&](const std::vector<TriangleSurface>& s) { return domain_from_regions(s, names, options); });
+}
+
+Domain domain_anywhere(const TriangleSurface& surface, const std::string& name, const DomainOptions& options) {
+  return relative_to_part({surface},
+                          [&](const std::vector<TriangleSurface>& s) { return domain_from_surface(s[0], name, options); });
 }
 
 }  // namespace froth

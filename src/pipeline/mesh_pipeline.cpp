@@ -93,6 +93,7 @@ FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunRe
   if (opt.progress) opt.progress("feature size", 0);
   FeatureSize fs = measure_feature_size(domain, opt.grade ? 2 * opt.r : opt.r);
   run.feature_size = fs.report;
+  for (auto* m : {&run.feature_size.thickness, &run.feature_size.gap}) m->where = m->where + domain.origin;
   run.stages.push_back({"feature size", watch.lap(), peak_rss_bytes()});
   return fs;
 }
@@ -207,7 +208,7 @@ void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
 // Star-shapedness of cells [begin, end) before welding (non-convex domains).
 void measure_star_shape(const Domain& domain, const PolyMesh& mesh, const MeshOptions& opt, RunReport& run,
                         size_t begin, size_t end) {
-  if (domain.convex) return;
+  if (domain.convex && !domain.regions) return;  // (a convex union of regions splits cells at interfaces)
   // Protected reflex edges keep cells star-shaped; a concave curved surface's flat reflex
   // edges do not (README, "Non-convex domains"): measured here, before welding.
   const StarShape star = star_shape(mesh, 1e-6 * opt.r, begin, end);
@@ -279,9 +280,10 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   mesh.volumes.resize(mesh.cell_count());
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
-  // Where cells may not hold their seed in their kernel (non-convex domains), the point to fan
-  // each from.
-  if (!domain.convex) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
+  // Where cells may not hold their seed in their kernel (non-convex domains, and the parts of a
+  // seed's cell in other regions than its seed's, even where the regions' union is convex), the
+  // point to fan each from.
+  if (!domain.convex || domain.regions) mesh.centers = fan_centers(mesh, 1e-6 * opt.r);
   run.without_center = 0;
   for (size_t c = 0; c < mesh.centers.size(); ++c) run.without_center += !mesh.has_kernel(c);
   assign_border_patches(domain.regions ? domain.regions->boundary : domain, mesh);
@@ -350,6 +352,12 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;
+  // Back into the input's coordinates, from the part's own (Domain::origin).
+  if (const Vec3 o = domain.origin; o.x != 0 || o.y != 0 || o.z != 0) {
+    for (Vec3& p : mesh.points) p = p + o;
+    for (Vec3& p : mesh.seeds) p = p + o;
+    for (Vec3& p : mesh.centers) p = p + o;  // NaN stays NaN
+  }
 }
 
 // --convex: the quality of the pieces of split cells (cells whose parent became several).

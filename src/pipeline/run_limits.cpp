@@ -99,12 +99,12 @@ void check_mesh_options(const Domain& domain, const MeshOptions& opt, double sha
     fail(ErrorKind::Usage, fmt::format("scale out of range: the domain is {:.3g} across and r = {:.3g}; froth "
                                        "computes with both in [1e-100, 1e100] (rescale the input's units)",
                                        extent, opt.r));
-  // Far from the origin, doubles are spaced too widely for the cells: a vertex rounds by half a
-  // step, and beyond 1e-6 r that bends faces and breaks the clipper's tolerances (a unit box at
-  // x = 1e12 with r = 0.1 came out with faces 0.8 r out of plane; at 1e15, exit 5). Until froth
-  // meshes in coordinates relative to the part (issue 37, item 4), such runs are refused.
-  const double far = std::max({std::abs(domain.bounds.lo.x), std::abs(domain.bounds.lo.y), std::abs(domain.bounds.lo.z),
-                               std::abs(domain.bounds.hi.x), std::abs(domain.bounds.hi.y), std::abs(domain.bounds.hi.z)});
+  // The cells are computed relative to the part (Domain::origin), but written in the input's
+  // coordinates, where each vertex rounds by half the spacing of doubles. Beyond 1e-6 r that
+  // rounding would break what the mesh states (a center inside every face plane by 1e-6 r) and
+  // bend faces by more than welding does: no mesh with this r is right there.
+  const Vec3 lo = domain.bounds.lo + domain.origin, hi = domain.bounds.hi + domain.origin;
+  const double far = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x), std::abs(hi.y), std::abs(hi.z)});
   const double step = far * 0x1p-52;
   if (step > 1e-6 * opt.r)
     fail(ErrorKind::Usage,

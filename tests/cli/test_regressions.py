@@ -60,6 +60,25 @@ for x0 in ("1e15", "1e12"):
     check(not os.path.exists(os.path.join(tmp, "far.vtu")), f"box at x = {x0}: a file was written")
 meshed_and_checked("box at x = 1e6", "box:1e6,0,0,1000001,1,1", "-r", "0.1")
 
+# A multi-region solid whose union is convex (the heater's box): the parts of a seed's cell in
+# other regions were given the seed as center, up to 0.65 r beyond a face's plane.
+heater = [os.path.join(models, "multi_region_heater", f + ".stl")
+          for f in ("bottomAir", "topAir", "heater", "leftSolid", "rightSolid")]
+meshed_and_checked("heater centers", *heater, "--cells", "1043", "--seed", "3595178490")
+
+# A part far from the origin is meshed in coordinates of its own (Domain::origin): the hinge moved
+# by 1e6 did not finish; by 1e5 its volumes were off by 1e-9.
+lines = open(os.path.join(models, "hinge.stl")).read().split("\n")
+for d in (1e5, 1e6):
+    moved = os.path.join(tmp, "hinge_moved.stl")
+    with open(moved, "w") as f:
+        for line in lines:
+            t = line.split()
+            f.write("vertex %r %r %s\n" % (float(t[1]) + d, float(t[2]) + d, t[3]) if t and t[0] == "vertex" else line + "\n")
+    rep = meshed_and_checked(f"hinge moved by {d:g}", moved, "-r", "1.2", "--seed", "1")
+    if rep:
+        check(rep["volume"]["relative_error"] < 1e-12, f"hinge moved by {d:g}: volume error {rep['volume']['relative_error']}")
+
 # Shells touching at a vertex: nesting was decided by rays from that vertex, which all grazed the
 # other shell (exit 5 before the surface's own defect was named); now rays from inside a triangle.
 broken = os.path.join(tmp, "self_intersecting_shells.STL")
