@@ -70,12 +70,13 @@ def cells_by_seed(path):
 common = ["--threads", "1", "--seed", "5"]
 HEATER = [os.path.join(MODELS, "multi_region_heater", f + ".stl")
           for f in ("bottomAir", "heater", "leftSolid", "rightSolid", "topAir")]
-# The hollow sphere at diag/20 is graded (its shell is thinner than 2r): the graded sample is
-# drawn whole on every rank, the cells divided.
+# The hollow sphere at diag/30 is graded (its shell is thinner than 2r): the graded sample is
+# drawn whole on every rank, the cells divided. Each case is at least 36 layers of sampling
+# cubes high, for 3 slabs of 12 (froth/partition.hpp's kCellHaloLayers).
 for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
-                               ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0866", ["--grade"]),
-                               ("heater", HEATER, "0.008", [])):
+                               ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0577", ["--grade"]),
+                               ("heater", HEATER, "0.006", [])):
     domain = domain if isinstance(domain, list) else [domain]
     serial_path = os.path.join(tmp, f"{name}_serial.vtu")
     serial_report = os.path.join(tmp, f"{name}_serial.json")
