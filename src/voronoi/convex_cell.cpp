@@ -117,8 +117,8 @@ ConvexCell::Clip ConvexCell::clip(Vec3 n, double offset, int32_t generator, doub
         // A tie decided exactly: the crossing strictly inside the edge, never at a vertex
         // (snapped points would be merged into a vertex of more seeds).
         const double den = sd_[o] - sd_[t];
-        const double u = std::clamp(den < 0 ? sd_[o] / den : 0.5, 1e-9, 1 - 1e-9);
-        p = p + u * (pos_[t] - pos_[o]);
+        const double along = std::clamp(den < 0 ? sd_[o] / den : 0.5, 1e-9, 1 - 1e-9);
+        p = p + along * (pos_[t] - pos_[o]);
       } else if (sd_[o] < -eps) {
         p = p + (sd_[o] / (sd_[o] - sd_[t])) * (pos_[t] - pos_[o]);
       }
