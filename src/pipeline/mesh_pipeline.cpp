@@ -129,8 +129,9 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
 // radius a protection seed states is what holds: reflex corners and the ends of short reflex
 // curves can lie closer than r_e = h / sqrt(2) (tessellation noise makes such curves), so a
 // protection seed's radius is min(h, sqrt(2) d) for d its distance to the nearest other one
-// (2 d where either is an interface curve's, sampled at r/2; free seeds keep h from every seed). Returns how many of the seeds of cells [begin, end) were
-// so reduced, and the smallest reduced radius over h in `smallest`.
+// (2 d where either is an interface curve's, sampled at r/2; free seeds keep h from every seed).
+// Returns how many of the seeds of cells [begin, end) were so reduced, and the smallest reduced
+// radius over h in `smallest`.
 size_t set_radii(PolyMesh& mesh, const SizingField& sizing, double r, size_t begin, size_t end, double& smallest) {
   if (!sizing.is_uniform()) {
     mesh.radii.resize(mesh.cell_count());
@@ -146,8 +147,6 @@ size_t set_radii(PolyMesh& mesh, const SizingField& sizing, double r, size_t beg
   };
   // Protection seeds in cubes of side r / sqrt(2): a nearer one that matters is in the 27 around.
   const double side = r / std::sqrt(2.0);
-  if (std::none_of(mesh.kinds.begin(), mesh.kinds.end(), [](CellKind k) { return k != CellKind::Interior && k != CellKind::Fringe; }))
-    return smallest = 1, 0;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cubes;
   auto key = [&](int64_t i, int64_t j, int64_t k) { return (uint64_t(i) * 73856093u) ^ (uint64_t(j) * 19349663u) ^ (uint64_t(k) * 83492791u); };
   auto cube_of = [&](Vec3 p, int64_t& i, int64_t& j, int64_t& k) {
