@@ -80,6 +80,33 @@ def draw(rng, all_parts, lo, hi):
     return part, options
 
 
+def subprocess_check(vtu):
+    """The checker in its own interpreter (when this one lacks VTK): its output when it fails."""
+    c = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "check_mesh.py"), vtu],
+                       capture_output=True, text=True)
+    return (c.stdout + c.stderr).strip().splitlines() if c.returncode != 0 else []
+
+
+def in_process_check(vtu):
+    import check_mesh
+    try:
+        return check_mesh.check(vtu)[0]
+    except Exception as e:  # a mesh VTK cannot read, or one the checks cannot parse
+        return ["check_mesh: %s: %s" % (type(e).__name__, e)]
+
+
+def checker(jobs):
+    """How each mesh is checked: in `jobs` worker processes that import VTK once (a second per
+    trial saved), or, where this interpreter has no VTK, by /usr/bin/python3 per mesh."""
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    try:
+        import check_mesh  # noqa: F401
+    except ImportError:
+        return subprocess_check, None
+    pool = concurrent.futures.ProcessPoolExecutor(jobs)
+    return (lambda vtu: pool.submit(in_process_check, vtu).result()), pool
+
+
 def run_trial(froth, work, k, part, options, check, timeout):
     vtu = os.path.join(work, "trial_%d.vtu" % k)
     report = os.path.join(work, "trial_%d.json" % k)
@@ -93,10 +120,7 @@ def run_trial(froth, work, k, part, options, check, timeout):
     seconds = time.time() - t0
     problems = []
     if rc == 0 and check:
-        c = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "scripts", "check_mesh.py"), vtu],
-                           capture_output=True, text=True)
-        if c.returncode != 0:
-            problems = (c.stdout + c.stderr).strip().splitlines()[-5:]
+        problems = check(vtu)[-5:]
     for f in (vtu, report):
         if os.path.exists(f):
             os.remove(f)
@@ -125,8 +149,9 @@ def main():
     trials = [draw(rng, all_parts, *a.cells) for _ in range(a.n)]
     log = open(os.path.join(a.work, "trials_seed%d.jsonl" % a.seed), "w")
     failed = 0
+    check, check_pool = checker(a.jobs) if a.check else (None, None)
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
-        futures = [pool.submit(run_trial, froth, a.work, k, part, opt, a.check, a.timeout)
+        futures = [pool.submit(run_trial, froth, a.work, k, part, opt, check, a.timeout)
                    for k, (part, opt) in enumerate(trials)]
         for fut in futures:
             r = fut.result()
@@ -141,6 +166,8 @@ def main():
                     print("    " + line)
             elif not a.quiet:
                 print("ok   trial %d %.1f s: %s" % (r["trial"], r["seconds"], r["replay"]), flush=True)
+    if check_pool:
+        check_pool.shutdown()
     print("trials: %d of %d failed (seed %d, %d parts, cells %g to %g%s)" %
           (failed, a.n, a.seed, len(all_parts), a.cells[0], a.cells[1], ", checked" if a.check else ""))
     return 1 if failed else 0
