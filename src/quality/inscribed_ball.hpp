@@ -3,7 +3,8 @@
 // free variables (c, t); c = 0 with t at most every d_f is feasible, and the simplex method
 // starts from it with the slacks as basis. Free variables enter first and never
 // leave (they have no bound); Bland's rule prevents cycling. The dictionary has one row per
-// face and four columns, so a pivot costs O(faces).
+// face and four columns, so a pivot costs O(faces). An answer outside a plane by more than
+// round-off, or none, is recomputed by CGAL's exact linear-program solver.
 #pragma once
 #include <vector>
 

@@ -126,6 +126,51 @@ TEST(Quality, InscribedBallAwayFromTheOrigin) {
   EXPECT_NEAR(ball.center.x, 0, 1e-12);
 }
 
+// A welded edge cell's 20 face planes (LCD-knob.stl, --cells 1415 --seed 74376258 --grade), two
+// pairs of them 1e-15 apart: the simplex took a pivot of 2e-12 and answered a centre 0.156
+// outside a plane, with a positive radius, where the kernel is empty. The answer must be the exact
+// solver's, inside every plane by its radius.
+TEST(Quality, InscribedBallOfNearlyParallelPlanes) {
+  const std::vector<std::pair<Vec3, double>> planes = {
+      {{0.2165872821739126, -0.97626325814327242, -3.1764570702699612e-16}, 0.018984842409771857},
+      {{0.11866377169717822, 0.99293449395546729, -1.8234245529221178e-16}, 0.19308065586312562},
+      {{-0.47004000684148611, -0.33523477612826119, 0.81650476841393294}, 0.25490292618602473},
+      {{-0.47004000684148844, -0.33523477612826103, 0.81650476841393171}, 0.25490292618602428},
+      {{0.90811473755436178, -0.34034172126994483, 0.2439162483304132}, 0.25734774333766669},
+      {{0.42350214319225532, 0.57312207774611634, 0.70155329000122379}, 0.32185725153981831},
+      {{0.4235021431922526, 0.57312207774611768, 0.70155329000122424}, 0.3218572515398187},
+      {{-0.39098454036748614, -0.31284430951378855, -0.86559778604064519}, 0.33316218910359086},
+      {{-0.044975378082894479, 0.54395689958666793, -0.83790697977661011}, 0.33404398963555387},
+      {{-0.5793037732727282, 0.71214583529983844, 0.39655446982359782}, 0.35174919999530402},
+      {{0.76820050776167459, 0.52803563816396537, -0.36200323852623095}, 0.35847691644634755},
+      {{-0.97093491676333343, -0.22403811696547296, -0.084215850980347548}, 0.44899956304404215},
+      {{-0.99232059371530446, 0.12369251912911203, 0}, 0.0023988497247997599},
+      {{-0.99914575769972847, 0.041324990872781832, 7.4894693100495538e-16}, -0.0097485773952842251},
+      {{-0.99914575769972858, 0.041324990872778349, -2.2059070543360112e-16}, -0.0097485773952848236},
+      {{0.99224905218839354, -0.12264200920643671, 0.020018891304040505}, -0.011883801974429477},
+      {{0.99251943287373467, -0.12051356590112614, 0.019536012945202727}, -0.0115735209029313},
+      {{0.9989628522527183, -0.040973006320839708, 0.019860326587082675}, 1.8561541192951836e-16},
+      {{0.99899516711890368, -0.040258045205003506, 0.019696341521860075}, -6.263641609036575e-05},
+      {{0, 0, 1}, 0},
+  };
+  std::vector<Vec3> normals;
+  std::vector<double> offsets;
+  CGAL::Quadratic_program<double> lp(CGAL::SMALLER, false, 0, false, 0);
+  for (const auto& [n, d] : planes) {
+    const int row = int(normals.size());
+    lp.set_a(0, row, n.x), lp.set_a(1, row, n.y), lp.set_a(2, row, n.z), lp.set_a(3, row, 1), lp.set_b(row, d);
+    normals.push_back(n), offsets.push_back(d);
+  }
+  lp.set_c(3, -1);
+  const auto exact = CGAL::solve_linear_program(lp, CGAL::Gmpzf());
+  ASSERT_TRUE(exact.is_optimal());
+  const InscribedBall ball = largest_inscribed_ball(normals, offsets);
+  ASSERT_TRUE(ball.ok);
+  EXPECT_NEAR(ball.radius, -CGAL::to_double(exact.objective_value()), 1e-12);
+  EXPECT_LT(ball.radius, 0);  // the kernel is empty
+  for (size_t f = 0; f < planes.size(); ++f) EXPECT_LE(dot(normals[f], ball.center) + ball.radius, offsets[f] + 1e-12) << f;
+}
+
 // Random convex cells against exact oracles.
 TEST(Quality, RandomConvexCellsMatchExactOracles) {
   std::mt19937_64 gen(7);
