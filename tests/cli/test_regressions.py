@@ -42,6 +42,14 @@ meshed_and_checked("ADIS16480 cospherical seeds", os.path.join(models, "ADIS1648
 meshed_and_checked("step.off round-off band", os.path.join(models, "step.off"), "--cells", "9895", "--seed",
                    "3512652964", "--weld", "0")
 
+# Planes 1e-15 apart around a knob's cell: the float simplex of the inscribed ball pivoted on
+# 2e-12 and put its `center` 0.156 r outside a face, in a cell with no kernel at all. Pivots
+# under 1e-9 and answers outside a plane now go to CGAL's exact LP (quality/inscribed_ball.cpp).
+knob = os.path.join(tmp, "LCD-knob.stl")
+with open(knob, "wb") as f:
+    f.write(gzip.open(os.path.join(corpus, "LCD-knob.stl.gz")).read())
+meshed_and_checked("LCD-knob inscribed ball", knob, "--cells", "1415", "--seed", "74376258", "--grade")
+
 # Reflex corners closer than r/sqrt(2) (the calibration cube's letters): their seeds' stated
 # radius is what holds, and the report counts them.
 cube = os.path.join(tmp, "20mm-xyz-cube.stl")
