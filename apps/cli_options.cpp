@@ -37,7 +37,7 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
                  "domain's diagonal); 0 = off)")
       ->check(kFiniteNonNegative);
   app.add_option("--threads", a.threads, "threads (default 0: all cores); never changes the result")
-      ->check(CLI::Range(0, 4096));
+      ->check(CLI::Range(0, froth::kMaxThreads));
   app.add_option("--max-memory", a.max_memory_gb,
                  "refuse a run estimated to need more than this many GB (default: the memory available)")
       ->check(CLI::PositiveNumber);
@@ -45,25 +45,27 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
   app.add_option("--feature-angle", a.feature_angle, "input edges turning by more than this many degrees are features")
       ->capture_default_str();
   app.add_flag("--repair", a.repair, "reorient shells whose triangles are inconsistently wound (reported)");
-  app.add_flag("--grade", a.grade,
+  CLI::Option* grade = app.add_flag("--grade", a.grade,
                "grade the radius to the input's thin walls and gaps: h(x) <= r, at least --min-r (experimental)");
   app.add_option("--min-r", a.min_r,
                  "with --grade: the smallest radius h may take (default: from r/4 up, the lowest that keeps the "
                  "estimated cells within 3 times a uniform mesh's)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber)
+      ->needs(grade);
   app.add_option("--max-grading", a.max_grading,
                  "with --grade: the slope of h along its grid, in (0, 0.25) (|grad h| <= sqrt(3) times it)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(grade);
   CLI::Option* quiet = app.add_flag("-q,--quiet", a.quiet, "print nothing on success (errors still go to stderr)");
   app.add_flag("-v,--verbose", a.verbose, "add every stage's details to the summary")->excludes(quiet);
   return radius;
 }
 
-froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain) {
-  froth::MeshOptions opt;
-  opt.r = a.r;
+froth::MeshOptions mesh_options(const CommonArgs& a) {
+  froth::MeshOptions opt;  // the library's defaults, and what the user gave
+  if (a.r != -INFINITY) opt.r = a.r;
   opt.seed = a.seed;
-  opt.weld = a.weld >= 0 ? a.weld : froth::default_weld_tolerance(a.r, domain.bounds.diagonal(), a.convex);
+  if (a.weld >= 0) opt.weld = a.weld;
   opt.convex = a.convex;
   opt.threads = a.threads;
   opt.quality = !a.no_quality;

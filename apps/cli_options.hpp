@@ -21,7 +21,7 @@ struct CommonArgs {
   double r = -INFINITY;  // -INFINITY: not given
   std::string seed_text = "0";
   uint64_t seed = 0;  // parsed from seed_text (cli_guards)
-  double weld = -1;   // default: froth::default_weld_tolerance
+  double weld = -1;   // -1: not given (the library's default)
   int threads = 0;
   bool no_quality = false;
   bool convex = false;  // froth mesh --convex
@@ -40,8 +40,8 @@ struct CommonArgs {
 // --grade, --min-r, --max-grading, --max-memory, --quiet and --verbose on `app`; returns -r.
 CLI::Option* add_common_options(CLI::App& app, CommonArgs& a);
 
-// The options a mesh is made with (the weld default needs the domain's size).
-froth::MeshOptions mesh_options(const CommonArgs& a, const froth::Domain& domain);
+// The options the user gave, the others left to the library's defaults (froth::MeshOptions).
+froth::MeshOptions mesh_options(const CommonArgs& a);
 
 // Refuses (Usage) an output whose extension froth does not write there: `allowed` e.g. {".vtu"},
 // `what` what those files are, for the message.

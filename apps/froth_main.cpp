@@ -55,12 +55,12 @@ std::vector<std::string> written(const std::string& mesh, const std::string& rep
   return out;
 }
 
-// -r as given, or chosen for --cells (the summary says which).
-MeshArgs with_radius(const MeshArgs& given, const froth::Domain& domain) {
-  MeshArgs a = given;
-  if (a.cells > 0) a.r = froth::radius_for_cells(domain, a.cells, a.seed, !a.dry_run);
-  else if (a.r == -INFINITY) froth::fail(froth::ErrorKind::Usage, "give -r R (the sampling radius) or --cells N");
-  return a;
+// The options given: -r, or --cells for the library to choose r (the summary says which).
+froth::MeshOptions options_of(const MeshArgs& a) {
+  if (a.cells == 0 && a.r == -INFINITY) froth::fail(froth::ErrorKind::Usage, "give -r R (the sampling radius) or --cells N");
+  froth::MeshOptions opt = froth_cli::mesh_options(a);
+  opt.cells = a.cells;
+  return opt;
 }
 
 // --dry-run: what the run would take, from the saturated density (froth::estimate_run) and the
@@ -96,21 +96,19 @@ struct Reading {
   size_t peak_bytes = 0;
 };
 
-int run_mesh(const MeshArgs& given) {
-  const std::string output = given.output.empty() ? default_output(given.input) : given.output;
+int run_mesh(const MeshArgs& a) {
+  const std::string output = a.output.empty() ? default_output(a.input) : a.output;
   froth_cli::refuse_same_files(
-      {{"the input", given.input}, {"-o", output}, {"--report", given.report}, {"--boundary", given.boundary}});
+      {{"the input", a.input}, {"-o", output}, {"--report", a.report}, {"--boundary", a.boundary}});
   froth_cli::refuse_unknown_mesh_format("-o", output);
-  if (!given.boundary.empty()) froth_cli::refuse_unknown_format("--boundary", given.boundary, {".vtu"});
-  const Reading reading(given);
+  if (!a.boundary.empty()) froth_cli::refuse_unknown_format("--boundary", a.boundary, {".vtu"});
+  const Reading reading(a);
   const froth::Domain& domain = reading.domain;
-  const MeshArgs a = with_radius(given, domain);
-  froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
-  if (a.dry_run) return dry_run(a, domain, opt);
+  froth::MeshOptions opt = options_of(a);
+  if (a.dry_run) return dry_run(a, domain, froth::resolve_options(domain, opt, false));
   froth_cli::ProgressBar bar(!a.quiet);
   opt.progress = bar.callback();
   froth::RunReport run;
-  run.cells_requested = a.cells;
   froth::PolyMesh mesh = froth::generate_mesh(domain, opt, &run);
   reading.add_stage(run);
   auto t0 = std::chrono::steady_clock::now();
@@ -135,18 +133,16 @@ int run_mesh(const MeshArgs& given) {
 // One mesh over all ranks (froth/partition.hpp): each rank writes its piece,
 // OUT/OUT_<rank>.vtu beside OUT.pvtu, and rank 0 the .pvtu, the report and the summary once every
 // piece is written. A rank that fails while the others wait for it aborts the run.
-int run_mesh_partitioned(const MeshArgs& given, froth::Communicator& comm) {
-  std::filesystem::path output = given.output.empty() ? default_output(given.input) : given.output;
+int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
+  std::filesystem::path output = a.output.empty() ? default_output(a.input) : a.output;
   if (output.extension() == ".vtu") output.replace_extension(".pvtu");
   froth_cli::refuse_unknown_format("-o with --partition", output.string(), {".pvtu"});
-  const Reading reading(given);
+  const Reading reading(a);
   const froth::Domain& domain = reading.domain;
-  const MeshArgs a = with_radius(given, domain);
-  froth::MeshOptions opt = froth_cli::mesh_options(a, domain);
+  froth::MeshOptions opt = options_of(a);
   froth_cli::ProgressBar bar(!a.quiet && comm.rank() == 0);
   opt.progress = bar.callback();
   froth::RunReport run;
-  run.cells_requested = a.cells;
   froth::PartitionReport part;
   froth::PolyMesh piece = froth::generate_mesh_piece(domain, opt, comm, &run, &part);
   reading.add_stage(run);
@@ -234,13 +230,8 @@ struct EnsembleArgs : CommonArgs {
 int run_ensemble(const EnsembleArgs& a, const std::string& command, const World& world) {
   froth::EnsembleOptions opt;
   opt.input = a.input;
-  opt.r = a.r;
-  opt.seed = a.seed;
+  opt.mesh = froth_cli::mesh_options(a);
   opt.members = a.members;
-  opt.quality = !a.no_quality;
-  opt.grade = a.grade, opt.min_r = a.min_r, opt.grading = a.max_grading;
-  opt.max_memory_bytes = a.max_memory_gb * 1e9;
-  opt.threads = a.threads;
   opt.dir = a.dir;
   opt.command = command;
   opt.rank = world.rank;
@@ -256,7 +247,6 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   int code = froth_cli::run_with_exit_codes(
       [&] {
         domain = froth::load_regions(a.inputs, a.load_options());
-        opt.weld = froth_cli::mesh_options(a, *domain).weld;
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
         if (world.rank == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
         return 0;
@@ -270,7 +260,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   done.resumed = world.sum(done.resumed);
   done.failed = world.sum(done.failed);
   if (world.rank != 0) return 0;
-  const std::vector<int> failed = froth::write_ensemble_summary(opt, done);
+  const std::vector<int> failed = froth::write_ensemble_summary(*domain, opt, done);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   bar.clear();
   if (!a.quiet)

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
     opt.r = r;
     opt.seed = seed;
     opt.threads = threads;
+    opt.weld = 0, opt.quality = false;  // welding and quality are timed on their own below
     struct Run {
       froth::RunReport report;
       double total = 0, voro = 0;

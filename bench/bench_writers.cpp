@@ -44,7 +44,6 @@ int main(int argc, char** argv) {
     froth::MeshOptions opt;
     opt.r = froth::radius_for_cells(box, cells, 1, false);
     opt.seed = 1;
-    opt.weld = froth::default_weld_tolerance(opt.r, box.bounds.diagonal());
     opt.quality = true;
     froth::RunReport run;
     const froth::PolyMesh mesh = froth::generate_mesh(box, opt, &run);

@@ -40,18 +40,18 @@ py::array vec3_view(const py::handle& owner, const froth::Vec3* data, size_t cou
   return view<double>(owner, data, count, sizeof(froth::Vec3), 3);
 }
 
-// The options `froth mesh` takes, with the command line's defaults (apps/cli_options.cpp), so
-// that the same options give the same mesh, byte for byte.
-froth::MeshOptions mesh_options(const froth::Domain& domain, double r, double cells, uint64_t seed,
-                                std::optional<double> weld, bool quality, int threads, bool grade,
-                                std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb,
-                                bool convex) {
+// The options the caller gave; the library resolves the rest (froth::MeshOptions), so that the
+// same options give the same mesh as `froth mesh`, byte for byte.
+froth::MeshOptions mesh_options(double r, double cells, uint64_t seed, std::optional<double> weld, bool quality,
+                                int threads, bool grade, std::optional<double> min_r, double max_grading,
+                                std::optional<double> max_memory_gb, bool convex) {
   if (cells != 0 && !(cells > 0 && std::isfinite(cells)))
     froth::fail(froth::ErrorKind::Usage, "cells must be a positive number, got " + std::to_string(cells));
   froth::MeshOptions opt;
-  opt.r = cells > 0 ? froth::radius_for_cells(domain, cells, seed) : r;
+  opt.r = r;
+  opt.cells = cells;
   opt.seed = seed;
-  opt.weld = weld ? *weld : froth::default_weld_tolerance(opt.r, domain.bounds.diagonal(), convex);
+  opt.weld = weld;
   opt.convex = convex;
   opt.threads = threads;
   opt.quality = quality;
@@ -60,9 +60,8 @@ froth::MeshOptions mesh_options(const froth::Domain& domain, double r, double ce
   return opt;
 }
 
-Mesh make_mesh(const froth::Domain& domain, const froth::MeshOptions& opt, double cells) {
+Mesh make_mesh(const froth::Domain& domain, const froth::MeshOptions& opt) {
   Mesh m;
-  m.run.cells_requested = cells;
   m.mesh = froth::generate_mesh(domain, opt, &m.run);
   return m;
 }
@@ -206,6 +205,8 @@ PYBIND11_MODULE(_froth, m) {
         py::gil_scoped_release unlocked;
         return froth::load_domain(input, {feature_angle, repair});
       },
+      "A solid from a surface file (STL, OBJ, OFF, PLY) or 'box:X0,Y0,Z0,X1,Y1,Z1', validated as froth mesh "
+      "validates it; feature_angle and repair as --feature-angle and --repair",
       py::arg("input"), py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
   m.def(
       "load_regions",
@@ -213,6 +214,7 @@ PYBIND11_MODULE(_froth, m) {
         py::gil_scoped_release unlocked;
         return froth::load_regions(inputs, {feature_angle, repair});
       },
+      "A multi-region solid: one region per closed surface file, sharing their interfaces",
       py::arg("inputs"), py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
   m.def(
       "from_surface",
@@ -223,6 +225,7 @@ PYBIND11_MODULE(_froth, m) {
         py::gil_scoped_release unlocked;
         return froth::domain_anywhere(s, name, {feature_angle, repair});
       },
+      "A solid from arrays: vertices (n, 3) and triangles (m, 3) of a closed surface, validated as a file is",
       py::arg("vertices"), py::arg("triangles"), py::arg("name") = "surface",
       py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
 
@@ -254,14 +257,17 @@ PYBIND11_MODULE(_froth, m) {
       .def_property_readonly("weld", [](const Mesh& m) { return m.run.weld; })
       .def_property_readonly("cell_count", [](const Mesh& m) { return m.mesh.cell_count(); })
       .def_property_readonly("face_count", [](const Mesh& m) { return m.mesh.face_count(); })
-      .def("__len__", [](const Mesh& m) { return m.mesh.cell_count(); })
-      .def("report_json", [](const Mesh& m) { return froth::report_json_text(m.run); })
+      .def("__len__", [](const Mesh& m) { return m.mesh.cell_count(); }, "The number of cells")
+      .def("report_json", [](const Mesh& m) { return froth::report_json_text(m.run); },
+           "The run report as the JSON text froth mesh --report writes")
       .def(
           "write",
           [](const Mesh& m, const std::filesystem::path& path, bool compress) {
             py::gil_scoped_release unlocked;
             froth::write_mesh(m.mesh, m.run, path, {}, compress);
           },
+          "Write the mesh; the format by the extension (.vtu, .exo/.e, a folder named polyMesh, .npz, .nodes), "
+          "to a temporary name renamed on success",
           py::arg("path"), py::arg("compress") = false)
       .def(
           "write_report",
@@ -269,14 +275,14 @@ PYBIND11_MODULE(_froth, m) {
             py::gil_scoped_release unlocked;
             froth::write_report_json(m.run, path);
           },
-          py::arg("path"))
+          "Write the run report (JSON)", py::arg("path"))
       .def(
           "write_boundary",
           [](const Mesh& m, const std::filesystem::path& path) {
             py::gil_scoped_release unlocked;
             froth::write_boundary_vtu(m.mesh, path);
           },
-          py::arg("path"));
+          "Write the boundary faces with their patches (VTU), as froth mesh --boundary", py::arg("path"));
 
   m.def(
       "mesh",
@@ -284,10 +290,11 @@ PYBIND11_MODULE(_froth, m) {
          int threads, bool grade, std::optional<double> min_r, double max_grading, std::optional<double> max_memory_gb,
          bool convex) {
         py::gil_scoped_release unlocked;
-        const froth::MeshOptions opt = mesh_options(domain, r, cells, seed, weld, quality, threads, grade, min_r,
-                                                    max_grading, max_memory_gb, convex);
-        return make_mesh(domain, opt, cells);
+        const froth::MeshOptions opt =
+            mesh_options(r, cells, seed, weld, quality, threads, grade, min_r, max_grading, max_memory_gb, convex);
+        return make_mesh(domain, opt);
       },
+      "Mesh a Domain (froth.mesh is the documented entry; this takes r = 0 or cells = 0 for 'not given')",
       py::arg("domain"), py::arg("r") = 0.0, py::arg("cells") = 0.0, py::arg("seed") = 0, py::arg("weld") = py::none(),
       py::arg("quality") = true, py::arg("threads") = 0, py::arg("grade") = false, py::arg("min_r") = py::none(),
       py::arg("max_grading") = 0.2, py::arg("max_memory") = py::none(), py::arg("convex") = false);
@@ -301,6 +308,7 @@ PYBIND11_MODULE(_froth, m) {
         m.run.seed = m.mesh.random_seed.value_or(0);
         return m;
       },
-      py::arg("path"));
-  m.def("member_seed", &froth::member_seed, py::arg("seed"), py::arg("k"));
+      "A mesh read back from a froth VTU (cell data and field data as written)", py::arg("path"));
+  m.def("member_seed", &froth::member_seed, "The seed of ensemble member k of an ensemble with this seed",
+        py::arg("seed"), py::arg("k"));
 }

@@ -10,20 +10,16 @@
 #include <string>
 
 #include "froth/domain.hpp"
+#include "froth/mesh.hpp"
 
 namespace froth {
 
 struct EnsembleOptions {
-  std::string input;       // the domain as given on the command line
-  double r = 0;
-  uint64_t seed = 0;       // the ensemble's seed S
+  std::string input;  // the domain as given on the command line
+  // Every member's options (defaults as for one mesh), with `mesh.seed` the ensemble's seed S:
+  // member k is made with seed member_seed(S, k). r must be given (not a cell count).
+  MeshOptions mesh;
   size_t members = 0;
-  double weld = 0;         // absolute tolerance, as for MeshOptions
-  bool quality = true;
-  bool grade = false;       // as MeshOptions: a radius graded to thin walls and gaps
-  double max_memory_bytes = 0;  // as MeshOptions: a member estimated above it is refused
-  double min_r = 0, grading = 0.2;
-  int threads = 0;
   std::filesystem::path dir;
   std::string command;     // the exact command line, for the record
   int rank = 0, ranks = 1; // this process builds the members k with k % ranks == rank
@@ -68,6 +64,7 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
 // Writes DIR/ensemble.pvd and DIR/ensemble.json from the members' sidecars (each must exist, or
 // its member's failure note: failed members are listed, not summarised). Returns the failure
 // notes' exit codes, in member order.
-std::vector<int> write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress);
+std::vector<int> write_ensemble_summary(const Domain& domain, const EnsembleOptions& opt,
+                                        const EnsembleProgress& progress);
 
 }  // namespace froth

@@ -127,12 +127,19 @@ struct PolyMesh {
   size_t face_count() const { return face_generator.size(); }
 };
 
+inline constexpr int kMaxThreads = 4096;  // MeshOptions::threads at most
+
+// What a mesh is made with. The library owns every default: a field left as it is gives the
+// mesh `froth mesh` gives without that option (generate_mesh resolves them, resolve_options).
 struct MeshOptions {
-  double r = 0;              // sampling radius
-  uint64_t seed = 0;         // random seed: the mesh is a pure function of (domain, r, seed)
-  double weld = 0;           // weld tolerance w in [0, r): vertices closer than w merge; 0 = off
+  double r = 0;      // sampling radius; 0: chosen for `cells`
+  double cells = 0;  // with r = 0: about this many cells (radius_for_cells; 1 to 1e10)
+  uint64_t seed = 0; // random seed: the mesh is a pure function of (domain, r, seed)
+  // Weld tolerance w in [0, r): vertices closer than w merge; 0 = off. Unset: the default,
+  // default_weld_tolerance (1e-4 min(r, the domain's diagonal); 0 with `convex`).
+  std::optional<double> weld;
   int threads = 0;           // 0 = all cores; never changes the result
-  bool quality = false;      // measure every cell (mesh.quality, report.quality)
+  bool quality = true;       // measure every cell (mesh.quality, report.quality)
   // Told when a stage starts (fraction 0) and, for sampling and cells, as it goes (fraction of
   // the domain covered, of the cells built), from one thread.
   std::function<void(const std::string& stage, double fraction)> progress;
@@ -308,6 +315,11 @@ double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool 
 // that fits) for the `share` of the mesh this process holds. generate_mesh calls it; froth
 // ensemble before it creates its folder.
 void check_mesh_options(const Domain& domain, const MeshOptions& options, double share = 1);
+
+// The options with the library's defaults filled in: r from `cells` where r is 0 (`sample`
+// false: the density's estimate alone, as for a dry run) and the weld tolerance where unset.
+// Throws Error(Usage) where neither r nor cells is given, or both.
+MeshOptions resolve_options(const Domain& domain, const MeshOptions& options, bool sample = true);
 
 // The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
 PolyMesh generate_mesh(const Domain& domain, const MeshOptions& options, RunReport* report);

@@ -59,11 +59,11 @@ std::pair<int64_t, uint32_t> crc_of(const std::filesystem::path& path) {
 bool same_inputs(const EnsembleOptions& opt, const Json& j, size_t k) {
   const Json& m = j.at("member");
   const Json& in = j.at("input");
-  return m.at("seed").get<uint64_t>() == member_seed(opt.seed, k) && in.at("r").get<double>() == opt.r &&
-         in.at("weld").get<double>() == opt.weld && m.at("input").get<std::string>() == opt.input &&
-         m.at("quality").get<bool>() == opt.quality && in.at("grade").get<bool>() == opt.grade &&
-         (!opt.grade ||
-          (in.at("min_r").get<double>() == opt.min_r && in.at("max_grading").get<double>() == opt.grading));
+  return m.at("seed").get<uint64_t>() == member_seed(opt.mesh.seed, k) && in.at("r").get<double>() == opt.mesh.r &&
+         in.at("weld").get<double>() == *opt.mesh.weld && m.at("input").get<std::string>() == opt.input &&
+         m.at("quality").get<bool>() == opt.mesh.quality && in.at("grade").get<bool>() == opt.mesh.grade &&
+         (!opt.mesh.grade ||
+          (in.at("min_r").get<double>() == opt.mesh.min_r && in.at("max_grading").get<double>() == opt.mesh.grading));
 }
 
 // Is member k in the directory, complete, and made with these options?
@@ -84,9 +84,16 @@ bool member_done(const EnsembleOptions& opt, size_t k) {
 
 // A member's options, checked before the folder is touched.
 void check_member_options(const Domain& domain, const EnsembleOptions& opt) {
-  MeshOptions mo;
-  mo.r = opt.r, mo.weld = opt.weld, mo.grade = opt.grade, mo.max_memory_bytes = opt.max_memory_bytes;
-  check_mesh_options(domain, mo);
+  if (opt.mesh.cells != 0) fail(ErrorKind::Usage, "an ensemble takes r, not a cell count");
+  check_mesh_options(domain, opt.mesh);
+}
+
+// The options with every default resolved (resolve_options), as the sidecars record them.
+EnsembleOptions resolved(const Domain& domain, const EnsembleOptions& given) {
+  check_member_options(domain, given);
+  EnsembleOptions opt = given;
+  opt.mesh = resolve_options(domain, given.mesh);
+  return opt;
 }
 
 struct Spread {
@@ -120,11 +127,11 @@ FolderLock::~FolderLock() {
   if (fd_ >= 0) ::close(fd_);  // closing releases the flock
 }
 
-FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& opt, bool overwrite) {
-  check_member_options(domain, opt);
+FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& given, bool overwrite) {
+  const EnsembleOptions opt = resolved(domain, given);
   std::error_code ec;
   if (std::filesystem::exists(opt.dir, ec) && !std::filesystem::is_directory(opt.dir, ec))
-    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; give -o a folder for the ensemble", opt.dir.string()));
+    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; name a folder for the ensemble", opt.dir.string()));
   std::filesystem::create_directories(opt.dir);
   const std::string lock_path = (opt.dir / ".froth-lock").string();
   const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -132,7 +139,7 @@ FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& 
   FolderLock lock(fd);
   if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
     fail(ErrorKind::Usage, fmt::format("{}: the folder is in use by another froth ensemble; wait for it to end, or "
-                                       "give -o another folder",
+                                       "name another folder",
                                        opt.dir.string()));
   std::vector<std::filesystem::path> ours;  // the files an ensemble writes, and their temporaries
   std::string other;                       // the first member made with other inputs
@@ -161,18 +168,18 @@ FolderLock prepare_ensemble_folder(const Domain& domain, const EnsembleOptions& 
   }
   if (other.empty()) return lock;
   if (!overwrite)
-    fail(ErrorKind::Usage, fmt::format("{} holds an ensemble made with other inputs: {}; give --overwrite to replace "
-                                       "it, or -o another folder",
+    fail(ErrorKind::Usage, fmt::format("{} holds an ensemble made with other inputs: {}; overwrite it (the ensemble's "
+                                       "overwrite option) or name another folder",
                                        opt.dir.string(), other));
   for (const auto& path : ours) std::filesystem::remove(path);
   return lock;
 }
 
-EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt) {
-  check_member_options(domain, opt);
+EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& given) {
+  const EnsembleOptions opt = resolved(domain, given);
   std::error_code ec;
   if (std::filesystem::exists(opt.dir, ec) && !std::filesystem::is_directory(opt.dir, ec))
-    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; give -o a folder for the ensemble", opt.dir.string()));
+    fail(ErrorKind::Io, fmt::format("{}: exists and is not a folder; name a folder for the ensemble", opt.dir.string()));
   std::filesystem::create_directories(opt.dir);
   // A killed run can leave a member's temporary file (member_00002.vtu.tmp1234) behind: it was
   // never renamed into place, so it is not a member; remove such leftovers of this rank's members.
@@ -192,14 +199,9 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
       continue;
     }
     if (opt.progress) opt.progress("members", double(k) / double(opt.members));
-    MeshOptions mo;
-    mo.r = opt.r;
-    mo.seed = member_seed(opt.seed, k);
-    mo.weld = opt.weld;
-    mo.threads = opt.threads;
-    mo.quality = opt.quality;
-    mo.grade = opt.grade, mo.min_r = opt.min_r, mo.grading = opt.grading;
-    mo.max_memory_bytes = opt.max_memory_bytes;
+    MeshOptions mo = opt.mesh;
+    mo.seed = member_seed(opt.mesh.seed, k);
+    mo.progress = nullptr;  // the ensemble's progress is by member
     RunReport run;
     PolyMesh mesh;
     // One member that cannot be meshed (froth's fault, or an r its sample cannot use) does not
@@ -225,7 +227,7 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
     const auto [size, crc] = crc_of(file);
     Json j = Json::parse(report_json_text(run));
     j["member"] = {{"index", k},          {"seed", mo.seed}, {"file", member_file(k)}, {"bytes", size},
-                   {"crc32", crc},        {"input", opt.input}, {"quality", opt.quality}};
+                   {"crc32", crc},        {"input", opt.input}, {"quality", opt.mesh.quality}};
     const std::string text = j.dump(2) + "\n";
     write_atomically(sidecar(opt, k), [&](std::ostream& out) { out << text; });
     ++done.built;
@@ -233,7 +235,9 @@ EnsembleProgress build_members(const Domain& domain, const EnsembleOptions& opt)
   return done;
 }
 
-std::vector<int> write_ensemble_summary(const EnsembleOptions& opt, const EnsembleProgress& progress) {
+std::vector<int> write_ensemble_summary(const Domain& domain, const EnsembleOptions& given,
+                                        const EnsembleProgress& progress) {
+  const EnsembleOptions opt = resolved(domain, given);
   std::vector<int> codes;
   std::vector<char> missing(opt.members, 0);
   Json members = Json::array();
@@ -283,9 +287,9 @@ std::vector<int> write_ensemble_summary(const EnsembleOptions& opt, const Ensemb
   Json out;
   out["command"] = opt.command;
   out["froth_version"] = FROTH_VERSION;
-  out["input"] = {{"domain", opt.input}, {"r", opt.r}, {"seed", opt.seed}, {"members", opt.members},
-                  {"weld", opt.weld}, {"quality", opt.quality}, {"grade", opt.grade}};
-  if (opt.grade) out["input"]["min_r"] = opt.min_r, out["input"]["max_grading"] = opt.grading;
+  out["input"] = {{"domain", opt.input}, {"r", opt.mesh.r}, {"seed", opt.mesh.seed}, {"members", opt.members},
+                  {"weld", *opt.mesh.weld}, {"quality", opt.mesh.quality}, {"grade", opt.mesh.grade}};
+  if (opt.mesh.grade) out["input"]["min_r"] = opt.mesh.min_r, out["input"]["max_grading"] = opt.mesh.grading;
   out["member_seeds"] = "Philox4x64-10 keyed by (seed, 2) at counter (k, 0, 0, 0), first word";
   out["this_run"] = {{"built", progress.built}, {"already_complete", progress.resumed}, {"failed", failed.size()}};
   out["failed_members"] = failed;

@@ -68,7 +68,7 @@ void start_run(const Domain& domain, const MeshOptions& opt, RunReport& run, dou
   run.domain = domain.description;
   run.r = opt.r;
   run.seed = opt.seed;
-  run.weld = opt.weld;
+  run.weld = *opt.weld;
   run.grade = opt.grade, run.min_r = opt.min_r, run.grading = opt.grading;
   run.threads = omp_get_max_threads();
   run.domain_volume = domain.volume;
@@ -102,12 +102,6 @@ FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunRe
 SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const MeshOptions& opt, RunReport& run,
                          Stopwatch& watch) {
   if (!opt.grade || fs.thickness.empty()) return SizingField::uniform(opt.r);
-  if (!(opt.grading > 0) || !(opt.grading < 0.25))
-    fail(ErrorKind::Usage, fmt::format("--max-grading must be in (0, 0.25), got {} (the field's slope is sqrt(3) times "
-                                       "it, below 1/2 for the maximality bound)",
-                                       opt.grading));
-  if (!(opt.min_r >= 0) || opt.min_r > opt.r)
-    fail(ErrorKind::Usage, fmt::format("--min-r must be in (0, r], got {}", opt.min_r));
   // A multi-region solid's regions are measured too: a layer thinner than 2r between two
   // interfaces needs h below it as a wall does, or its cells would reach across it.
   std::vector<FeatureSize> region_fs;
@@ -196,7 +190,7 @@ size_t set_radii(PolyMesh& mesh, const SizingField& sizing, double r, size_t beg
 
 // A piece of a cell smaller than a cube of 4 weld tolerances could collapse under welding: it
 // stays with its seed's piece instead of becoming a cell.
-double min_piece_volume(const MeshOptions& opt) { return std::pow(4 * opt.weld, 3); }
+double min_piece_volume(const MeshOptions& opt) { return std::pow(4 * *opt.weld, 3); }
 
 void check_sample(size_t seeds, size_t uncovered_cubes, double r) {
   if (seeds == 0) fail(ErrorKind::Usage, fmt::format("r = {} leaves no seed in the domain", r));
@@ -225,7 +219,7 @@ struct WeldedCells {
 
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
-  if (!(opt.weld > 0)) {
+  if (!(*opt.weld > 0)) {
     if (!opt.convex) mesh.face_interface_facet.clear();  // (--convex cuts by interface planes too)
     return welded;
   }
@@ -239,7 +233,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
 #pragma omp parallel for schedule(dynamic, 64)
     for (size_t i = 0; i < cells.size(); ++i) welded.before[i] = cell_verdict(mesh, cells[i]);
   };
-  run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, opt.weld, opt.r, measure_before));
+  run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, *opt.weld, opt.r, measure_before));
   mesh.face_interface_facet.clear();  // its one reader was welding
   run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
   return welded;
@@ -384,9 +378,11 @@ void measure_pieces(const PolyMesh& mesh, RunReport::ConvexSplit& split) {
 
 }  // namespace
 
-PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* report) {
+PolyMesh generate_mesh(const Domain& domain, const MeshOptions& given, RunReport* report) {
   RunReport local;
   RunReport& run = report ? *report : local;
+  run.cells_requested = given.cells;
+  const MeshOptions opt = resolve_options(domain, given);
   start_run(domain, opt, run);
   const auto going = [&](const char* stage) { return progress_of(opt, stage); };
   auto progress = [&](const char* stage) {
@@ -428,14 +424,16 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& opt, RunReport* 
   return mesh;
 }
 
-PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Communicator& comm, RunReport* report,
+PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Communicator& comm, RunReport* report,
                              PartitionReport* partition) {
   RunReport local_run;
   RunReport& run = report ? *report : local_run;
+  run.cells_requested = given.cells;
+  const MeshOptions opt = resolve_options(domain, given);
   PartitionReport local_part;
   PartitionReport& part = partition ? *partition : local_part;
   if (opt.convex)
-    fail(ErrorKind::Usage, "--convex is not available with --partition: a cut carries into cells on other ranks");
+    fail(ErrorKind::Usage, "convex cells are not available in a partitioned run: a cut carries into cells on other ranks");
   start_run(domain, opt, run, 1.0 / comm.size());
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
@@ -500,8 +498,8 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& opt, Commu
   const double slack = kGhostCellLayers * opt.r / std::sqrt(3.0) - 2 * opt.r;
   const double moved = comm.max(run.welding ? run.welding->max_displacement : 0);
   if (2 * moved >= slack)
-    fail(ErrorKind::Usage, fmt::format("--partition: welding moved a vertex by {:.3g} = {:.3g} r, more than the ghost "
-                                       "cells around a slab can vouch for ({:.3g} r): use a smaller --weld",
+    fail(ErrorKind::Usage, fmt::format("a partitioned run: welding moved a vertex by {:.3g} = {:.3g} r, more than the ghost "
+                                       "cells around a slab can vouch for ({:.3g} r): use a smaller weld tolerance",
                                        moved, moved / opt.r, slack / 2 / opt.r));
   PolyMesh mesh = extract_cells(ring, own_begin, own_end, part.partition_faces);
   ring = PolyMesh();

@@ -11,6 +11,7 @@
 #include "common/background_grid.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
+#include "froth/weld.hpp"
 #include "sampling/mps.hpp"
 #include "sampling/sizing.hpp"
 
@@ -59,7 +60,7 @@ RunEstimate estimate_run(const Domain& domain, const MeshOptions& opt) {
 
 double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool sample) {
   if (!(cells >= 1) || !(cells <= 1e10))
-    fail(ErrorKind::Usage, fmt::format("--cells must be from 1 to 1e10, got {}", cells));
+    fail(ErrorKind::Usage, fmt::format("the cell count must be from 1 to 1e10, got {}", cells));
   // The density's estimate (V + S r/2) / r^3 is decreasing in r: bisect on its logarithm.
   auto estimate = [&](double r) { return saturated_cells(domain, r); };
   double lo = domain.bounds.diagonal() * 1e-7, hi = domain.bounds.diagonal() * 10;
@@ -83,15 +84,41 @@ double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool 
   return r;
 }
 
-void check_mesh_options(const Domain& domain, const MeshOptions& opt, double share) {
+MeshOptions resolve_options(const Domain& domain, const MeshOptions& given, bool sample) {
+  MeshOptions opt = given;
+  if (opt.cells != 0) {
+    if (opt.r != 0) fail(ErrorKind::Usage, "give r (the sampling radius) or a cell count, not both");
+    opt.r = radius_for_cells(domain, opt.cells, opt.seed, sample);
+    opt.cells = 0;  // resolved: r stands for the count from here on (RunReport::cells_requested keeps it)
+  }
+  if (!opt.weld) opt.weld = default_weld_tolerance(opt.r, domain.bounds.diagonal(), opt.convex);
+  return opt;
+}
+
+void check_mesh_options(const Domain& domain, const MeshOptions& given, double share) {
+  const MeshOptions opt = resolve_options(domain, given, false);
+  const double weld = *opt.weld;
   if (!(opt.r > 0) || !std::isfinite(opt.r)) fail(ErrorKind::Usage, fmt::format("r must be positive, got {}", opt.r));
-  if (!(opt.weld >= 0) || !(opt.weld < opt.r))
-    fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {:.6g}", opt.weld));
-  if (opt.convex && opt.weld > 0)
-    fail(ErrorKind::Usage, fmt::format("--convex cannot be combined with welding (--weld {:.6g}): welding bends faces out "
-                                       "of their planes, and a convex cell needs planar faces; with --convex the "
-                                       "default weld is 0",
-                                       opt.weld));
+  // OpenMP runtimes fail (libgomp crashes) when asked for far more threads than a machine runs.
+  if (opt.threads < 0 || opt.threads > kMaxThreads)
+    fail(ErrorKind::Usage, fmt::format("threads must be from 0 (all cores) to {}, got {}", kMaxThreads, opt.threads));
+  if (!(weld >= 0) || !(weld < opt.r))
+    fail(ErrorKind::Usage, fmt::format("the weld tolerance must be in [0, r), got {:.6g}", weld));
+  if (opt.convex && weld > 0)
+    fail(ErrorKind::Usage, fmt::format("convex cells cannot be combined with welding (weld tolerance {:.6g}): welding bends "
+                                       "faces out of their planes, and a convex cell needs planar faces; with convex "
+                                       "cells the default weld tolerance is 0",
+                                       weld));
+  // Checked here, not where the sizing field is made, so that a bad value is refused whatever
+  // the part (a part without thin walls never makes one).
+  if (opt.grade) {
+    if (!(opt.grading > 0) || !(opt.grading < 0.25))
+      fail(ErrorKind::Usage, fmt::format("the maximum grading must be in (0, 0.25), got {} (the field's slope is sqrt(3) times "
+                                         "it, below 1/2 for the maximality bound)",
+                                         opt.grading));
+    if (!(opt.min_r >= 0) || opt.min_r > opt.r)
+      fail(ErrorKind::Usage, fmt::format("the smallest graded radius min_r must be in (0, r], got {}", opt.min_r));
+  }
   // Squared distances of coordinates and radii must stay far from underflow and overflow.
   const Vec3 size = domain.bounds.size();
   const double extent = std::max({size.x, size.y, size.z});
@@ -128,8 +155,8 @@ void check_mesh_options(const Domain& domain, const MeshOptions& opt, double sha
     const double fits = opt.r * std::cbrt(e.bytes / limit) * 1.05;
     fail(ErrorKind::Usage,
          fmt::format("r = {} needs about {:.3g} GB ({:.3g} cells) and {:.3g} GB is available{}: use r of {:.3g} or more, "
-                     "or a machine with more memory (froth mesh --partition spreads one mesh over several)",
-                     opt.r, e.bytes / 1e9, e.cells, limit / 1e9, opt.max_memory_bytes > 0 ? " (--max-memory)" : "",
+                     "or a machine with more memory (a partitioned run spreads one mesh over several)",
+                     opt.r, e.bytes / 1e9, e.cells, limit / 1e9, opt.max_memory_bytes > 0 ? " (the memory limit given)" : "",
                      fits));
   }
 }

@@ -172,7 +172,7 @@ for args, code, words in [
     ([os.path.join(MODELS, "shared.STL"), "-r", "0.1"], 3, "not manifold"),
     ([os.path.join(MODELS, "featuretype.STL"), "-r", "0.1"], 3, "not closed"),
     ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "inconsistent orientation"),
-    ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "--repair"),
+    ([os.path.join(MODELS, "multibody.stl"), "-r", "0.1"], 3, "the repair option reorients"),
     ([os.path.join(MODELS, "rook.stl"), "-r", "1"], 3, "shared by 4 triangles"),
     # Multi-region input: solids that overlap (one poking into another, a pin through a plate),
     # the same solid twice, solids a rounding error apart at their vertices ...
@@ -197,6 +197,12 @@ for args, code, words in [
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "0.5"], 2, "weld tolerance must be in [0, r)"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "-1"], 2, "--weld"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--feature-angle", "190"], 2, "feature angle must be between 0 and 180"),
+    # The grading options mean nothing without --grade (issue 40: they were ignored silently),
+    # and a bad grading is refused whatever the part (a box has no thin wall to grade to).
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--min-r", "0.1"], 2, "--min-r requires --grade"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--max-grading", "0.1"], 2, "--max-grading requires --grade"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--grade", "--max-grading", "0.3"], 2, "maximum grading must be in (0, 0.25)"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--grade", "--min-r", "0.5"], 2, "min_r must be in (0, r]"),
 ]:
     out = os.path.join(tmp, "bad.vtu")
     p = froth("mesh", *args, "-o", out)
@@ -258,7 +264,7 @@ check(all(p.returncode == 0 for p in runs), f"graded ensemble: {[p.returncode fo
 check("3 built" in runs[0].stdout and "0 built" in runs[1].stdout, f"graded ensemble resumes: {[p.stdout for p in runs]}")
 before = {f: os.path.getmtime(os.path.join(ens, f)) for f in os.listdir(ens)}
 p = froth("ensemble", os.path.join(MODELS, "round.stl"), "-r", "3.0585", "-n", "2", "--seed", "1", "-o", ens)
-check(p.returncode == 2 and "other inputs" in p.stderr and "--overwrite" in p.stderr,
+check(p.returncode == 2 and "other inputs" in p.stderr and "overwrite option" in p.stderr,
       f"ensemble folder of other inputs: {p.returncode} {p.stderr}")
 check(before == {f: os.path.getmtime(os.path.join(ens, f)) for f in os.listdir(ens)},
       "a refused ensemble changed its folder")

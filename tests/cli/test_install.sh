@@ -21,6 +21,17 @@ fi
 out=$("$prefix/example/mesh_a_part" "$source/examples/unit_sphere.stl" 0.2 "$prefix/sphere.vtu")
 echo "$out"
 grep -q "cells (" <<<"$out" && [ -s "$prefix/sphere.vtu" ] || { echo "FAIL: the example did not mesh"; exit 1; }
+# One default, owned by the library: the installed program given only the radius and the seed
+# writes the very bytes the library example writes.
+"$prefix/bin/froth" mesh "$source/examples/unit_sphere.stl" -r 0.2 --seed 1 -o "$prefix/sphere_cli.vtu" -q
+cmp "$prefix/sphere.vtu" "$prefix/sphere_cli.vtu" || { echo "FAIL: the library and the program mesh differently"; exit 1; }
+# A multi-region input: cells of the interface kinds are counted too (kinds 4 and 5).
+heater="$source/tests/data/models/multi_region_heater"
+out=$("$prefix/example/mesh_a_part" "$heater"/bottomAir.stl "$heater"/topAir.stl "$heater"/heater.stl \
+      "$heater"/leftSolid.stl "$heater"/rightSolid.stl 0.012 "$prefix/heater.vtu")
+echo "$out"
+grep -Eq "[1-9][0-9]* interface face, [0-9]+ interface edge" <<<"$out" && [ -s "$prefix/heater.vtu" ] ||
+  { echo "FAIL: the example did not mesh the heater's regions"; exit 1; }
 # The installed program reads the example's mesh and draws its plots with the installed script
 # (not the source tree's, which is also on this machine): the installed one is wrapped to leave a
 # mark when it runs.
@@ -39,6 +50,8 @@ import froth, sys
 assert froth.__file__.startswith(sys.argv[1]), froth.__file__
 m = froth.mesh(sys.argv[2], r=0.3, seed=1)
 assert m.cell_count > 0 and abs(m.cell_data['volume'].sum() - froth.load(sys.argv[2]).volume) < 1e-9
+froth.mesh(sys.argv[2], r=0.2, seed=1).write('sphere_py.vtu')
 print('installed module:', m)" "$site" "$source/examples/unit_sphere.stl") || { echo "FAIL: the installed module does not mesh"; exit 1; }
+  cmp "$prefix/sphere.vtu" "$prefix/sphere_py.vtu" || { echo "FAIL: the module and the library mesh differently"; exit 1; }
 fi
 echo "1 passed, 0 failed"

@@ -274,7 +274,7 @@ TEST_P(NonConvex, GuaranteesHold) {
   EXPECT_FALSE(d.convex);
   const double r = k.fraction * d.bounds.diagonal(), re = r / std::sqrt(2.0);
   MeshOptions o;
-  o.r = r, o.seed = k.seed, o.threads = 2, o.quality = true;
+  o.r = r, o.seed = k.seed, o.threads = 2, o.weld = 0;
   RunReport run;
   const PolyMesh m = generate_mesh(d, o, &run);
   ASSERT_GT(m.cell_count(), 10u);  // not a trivial mesh (the coarse round.stl case has 18 cells)

@@ -225,6 +225,7 @@ TEST(Quality, MeshesRespectTheoremOneAndLemmaSix) {
     MeshOptions opt;
     opt.r = 0.1;
     opt.seed = 5;
+    opt.weld = 0, opt.quality = false;  // measured below
     PolyMesh m = generate_mesh(d, opt, nullptr);
     std::vector<CellQuality> cells;
     QualityReport q = assess_quality(m, &cells);

@@ -19,6 +19,7 @@ namespace {
 MeshOptions graded(double r, uint64_t seed, int threads = 2) {
   MeshOptions o;
   o.r = r, o.seed = seed, o.threads = threads, o.grade = true;
+  o.weld = 0, o.quality = false;
   return o;
 }
 

@@ -19,6 +19,7 @@ PolyMesh unwelded(const std::string& domain, double r, uint64_t seed) {
   MeshOptions opt;
   opt.r = r;
   opt.seed = seed;
+  opt.weld = 0, opt.quality = false;  // unwelded: the tests weld it
   return generate_mesh(d, opt, nullptr);
 }
 
@@ -147,7 +148,7 @@ TEST(Weld, BoundsBeforeWeldingMatchTheUnweldedMesh) {
   MeshOptions opt;
   opt.r = 0.1;
   opt.seed = 8;
-  opt.quality = true;
+  opt.weld = 0;
   RunReport plain, welded;
   generate_mesh(d, opt, &plain);
   opt.weld = 0.2 * opt.r;  // large: welding visibly distorts cells
