@@ -459,7 +459,7 @@ class Splitter {
       size_t t = 0;
       while (t < other.size() && !(other[t].gen == id && sorted_vertices(other[t].v) == key)) ++t;
       if (t == other.size())
-        fail(ErrorKind::Internal, fmt::format("--convex: cell {}'s face toward cell {} has no twin there", id, y));
+        fail(ErrorKind::Internal, fmt::format("convex split: cell {}'s face toward cell {} has no twin there", id, y));
       const Face twin = other[t];
       other.erase(other.begin() + std::ptrdiff_t(t));
       for (size_t k = 0; k < a.pieces.size(); ++k)

@@ -178,7 +178,7 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
     if (same && !repair)
       fail(ErrorKind::InvalidInput,
            fmt::format("{}: inconsistent orientation: triangles {} and {} run {} in the same direction "
-                       "(--repair reorients such shells)",
+                       "(the repair option reorients such shells)",
                        name, uses[0].tri, uses[1].tri, where_edge(V, edge.first, edge.second)));
     across[uses[0].tri].push_back({uses[1].tri, same});
     across[uses[1].tri].push_back({uses[0].tri, same});
@@ -426,6 +426,7 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
 }
 
 Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions& options) {
+  if (inputs.empty()) fail(ErrorKind::Usage, "no input given: name a surface file or a box spec for each region");
   if (inputs.size() == 1) return load_domain(inputs[0], options);
   check_feature_angle(options.feature_angle);
   std::vector<TriangleSurface> surfaces;

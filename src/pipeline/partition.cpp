@@ -19,7 +19,7 @@ Slab slab_of(int rank, int ranks, int nz) {
   if (ranks < 1 || rank < 0 || rank >= ranks) fail(ErrorKind::Internal, fmt::format("rank {} of {}", rank, ranks));
   if (ranks > 1 && nz / ranks < kCellHaloLayers)
     fail(ErrorKind::Usage,
-         fmt::format("--partition over {} ranks needs at least {} layers of sampling cubes (side r/sqrt(3)) per rank "
+         fmt::format("a partition over {} ranks needs at least {} layers of sampling cubes (side r/sqrt(3)) per rank "
                      "along z, and the grid has {} layers ({} of them its empty margins): use fewer ranks or a "
                      "smaller r",
                      ranks, kCellHaloLayers, nz, 2 * BackgroundGrid::kMargin));

@@ -178,7 +178,7 @@ def main():
             run_case(tmp, name, r, aspect_bound)
         run_checkmesh(tmp)
         p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.2", "--convex", "--weld", "0.001", "-q", "-o", os.path.join(tmp, "b.vtu"))
-        check(p.returncode == 2 and "--convex cannot be combined with welding" in p.stderr,
+        check(p.returncode == 2 and "convex cells cannot be combined with welding" in p.stderr,
               f"--convex with --weld: exit {p.returncode}: {p.stderr}")
         p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.2", "--convex", "-o", os.path.join(tmp, "b.vtu"))
         check(p.returncode == 0 and "every cell was convex already" in p.stdout, f"--convex on a box: {p.stdout}{p.stderr}")

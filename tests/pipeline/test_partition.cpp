@@ -122,7 +122,7 @@ TEST(Partition, WeldingBeyondTheGhostRingStopsEveryRank) {
   opt.weld = 0.8 * opt.r;  // merges whole clusters of cells' vertices
   opt.threads = 1;
   const std::vector<Piece> pieces = partitioned(load_domain("box:0,0,0,1,1,1"), opt, 2);
-  for (const Piece& p : pieces) EXPECT_NE(p.error.find("use a smaller --weld"), std::string::npos) << p.error;
+  for (const Piece& p : pieces) EXPECT_NE(p.error.find("use a smaller weld tolerance"), std::string::npos) << p.error;
 }
 
 // A cluster of candidates that conflict with each other, the earliest a neighbour rank's: the
