@@ -13,6 +13,7 @@ Errors raise froth.Error subclasses carrying the command line's message and exit
 UsageError (2), InvalidInputError (3), IoError (4), InternalError (5).
 """
 import json
+import numbers
 import os
 
 from ._froth import (Domain, Error, InternalError, InvalidInputError, IoError, Mesh, UsageError, from_surface, load,
@@ -61,6 +62,8 @@ def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, thread
     if (r is None) == (cells is None):
         raise UsageError("give r= (the sampling radius) or cells= (about this many cells), not both" if r is not None
                          else "give r= (the sampling radius) or cells= (about this many cells)")
+    if cells is not None and not (isinstance(cells, numbers.Real) and cells > 0):
+        raise UsageError(f"cells must be a positive number, got {cells!r}")
     domain = _domain(surface, feature_angle, repair)
     return _froth.mesh(domain, r=0.0 if r is None else float(r), cells=0.0 if cells is None else float(cells),
                        seed=seed, weld=weld, quality=quality, threads=threads, grade=grade, min_r=min_r,

@@ -18,6 +18,7 @@
 
 #include "froth/error.hpp"
 #include "froth/io.hpp"
+#include "froth/validate.hpp"
 
 namespace froth {
 namespace {
@@ -377,6 +378,9 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     std::vector<double> v = rd.values<double>(volume);
     if (v.size() != nc) bad(path, "the volume array does not have one value per cell");
     m.volumes = std::move(v);
+  } else {  // another program's VTU: the volumes from the cells themselves, as the writers need them
+    m.volumes.resize(nc);
+    for (size_t c = 0; c < nc; ++c) m.volumes[c] = cell_volume(m, c);
   }
   if (auto center = rd.array("CellData", "center", false)) {
     const std::vector<double> v = rd.values<double>(center);

@@ -260,6 +260,29 @@ if os.path.exists(raw) and os.path.exists(packed):
     p = froth("quality", packed)
     check(p.returncode == 0 and "every cell closed" in p.stdout, f"froth quality on a compressed VTU: {p.stderr}")
 
+# A polyhedral VTU from another program, without froth's volume array (issue 40: froth convert
+# crashed there, rc 139, and left its temporary file): the volumes come from the cells.
+plain, novolume = os.path.join(tmp, "plain.vtu"), os.path.join(tmp, "novolume.vtu")
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "--seed", "3", "-o", plain, "--quiet")
+check(p.returncode == 0, f"box for the volume-less VTU: {p.returncode} {p.stderr}")
+g_ = read_vtk(plain)
+g_.GetCellData().RemoveArray("volume")
+w_ = vtk.vtkXMLUnstructuredGridWriter()
+w_.SetFileName(novolume)
+w_.SetInputData(g_)
+w_.Write()
+for ext in (".exo", ".nodes"):
+    out = os.path.join(tmp, "novolume" + ext)
+    p = froth("convert", novolume, "-o", out)
+    check(p.returncode == 0 and os.path.exists(out), f"convert of a VTU without volumes to {ext}: {p.returncode} {p.stderr}")
+    check(not [f for f in os.listdir(tmp) if ".tmp" in f], f"convert to {ext} left a temporary file")
+if os.path.exists(os.path.join(tmp, "novolume.exo")):
+    ex_cells, _ = exodus_cells(os.path.join(tmp, "novolume.exo"))
+    _, plain_volumes, _ = vtu_cells(plain)
+    ex_volumes = np.array([ex_cells[c]["volume"] for c in sorted(ex_cells)])
+    check(len(ex_volumes) == len(plain_volumes) and np.allclose(ex_volumes, plain_volumes, rtol=1e-12, atol=0),
+          "convert of a VTU without volumes: the Exodus volumes are not the cells' volumes")
+
 p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", os.path.join(tmp, "x.exo2"))
 check(p.returncode == 2 and "polyMesh" in p.stderr, f"unknown format: {p.returncode} {p.stderr}")
 

@@ -186,8 +186,17 @@ def test_usage_errors_of_the_python_call():
         froth.mesh(BOX, r=0.1, cells=100)
     with pytest.raises(froth.UsageError, match="cells must be a positive number"):
         froth.mesh(BOX, cells=-5)
+    with pytest.raises(froth.UsageError, match="cells must be a positive number, got 0"):
+        froth.mesh(BOX, cells=0)
     with pytest.raises(froth.UsageError, match="cannot write"):
         froth.mesh(BOX, r=0.3).write("mesh.xyz")
     with pytest.raises(froth.UsageError, match="froth.mesh takes a path"):
         froth.mesh(42, r=0.1)
+    # Hostile calls that used to kill the interpreter (issue 40): refused with a message.
+    with pytest.raises(froth.UsageError, match="no input given"):
+        froth.mesh([], r=0.3)
+    with pytest.raises(froth.UsageError, match="no input given"):
+        froth.load_regions([])
+    with pytest.raises(froth.UsageError, match="threads must be from 0"):
+        froth.mesh(BOX, r=0.3, threads=10**6)
     assert issubclass(froth.IoError, OSError) and issubclass(froth.InvalidInputError, ValueError)
