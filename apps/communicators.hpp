@@ -1,5 +1,5 @@
-// froth::Communicator for the command line: MPI's world when built with -DFROTH_MPI=ON, and a
-// single process otherwise (then --partition writes a .pvtu of one piece).
+// froth::Communicator over MPI's world, for the command line built with -DFROTH_MPI=ON (without
+// it the program is one process: froth::SoloCommunicator, and --partition writes one piece).
 #pragma once
 #include <climits>
 #include <cstdint>
@@ -10,20 +10,9 @@
 #endif
 
 #include "froth/error.hpp"
-#include "froth/partition.hpp"
+#include "froth/communicator.hpp"
 
 namespace froth_cli {
-
-class SoloCommunicator : public froth::Communicator {
- public:
-  int rank() const override { return 0; }
-  int size() const override { return 1; }
-  void exchange_with_neighbours(const Bytes&, const Bytes&, Bytes& from_lower, Bytes& from_upper) override {
-    from_lower.clear();
-    from_upper.clear();
-  }
-  std::vector<Bytes> all_gather(const Bytes& mine) override { return {mine}; }
-};
 
 #ifdef FROTH_MPI
 class MpiCommunicator : public froth::Communicator {

@@ -21,7 +21,6 @@
 #include <fmt/format.h>
 
 #include "cli_guards.hpp"
-#include "common/memory.hpp"
 #include "cli_options.hpp"
 #include "progress_bar.hpp"
 #include "python_scripts.hpp"
@@ -195,30 +194,6 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
   return 0;
 }
 
-// The MPI world when froth is built with -DFROTH_MPI=ON (one process otherwise).
-struct World {
-  int rank = 0, size = 1;
-  // The largest of every rank's value (all ranks call it).
-  int max(int v) const {
-#ifdef FROTH_MPI
-    int out = v;
-    MPI_Allreduce(&v, &out, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    return out;
-#else
-    return v;
-#endif
-  }
-  unsigned long long sum(unsigned long long v) const {
-#ifdef FROTH_MPI
-    unsigned long long out = v;
-    MPI_Allreduce(&v, &out, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
-    return out;
-#else
-    return v;
-#endif
-  }
-};
-
 struct EnsembleArgs : CommonArgs {
   std::string dir;
   size_t members = 0;
@@ -227,20 +202,20 @@ struct EnsembleArgs : CommonArgs {
 
 // Members are spread over the ranks (member k on rank k % ranks); rank 0 writes the summary
 // once every rank is done. A rank that fails makes every rank exit with its code.
-int run_ensemble(const EnsembleArgs& a, const std::string& command, const World& world) {
+int run_ensemble(const EnsembleArgs& a, const std::string& command, froth::Communicator& world) {
   froth::EnsembleOptions opt;
   opt.input = a.input;
   opt.mesh = froth_cli::mesh_options(a);
   opt.members = a.members;
   opt.dir = a.dir;
   opt.command = command;
-  opt.rank = world.rank;
-  opt.ranks = world.size;
-  froth_cli::ProgressBar bar(!a.quiet && world.rank == 0);
+  opt.rank = world.rank();
+  opt.ranks = world.size();
+  froth_cli::ProgressBar bar(!a.quiet && world.rank() == 0);
   opt.progress = bar.callback();
   const auto t0 = std::chrono::steady_clock::now();
   froth::EnsembleProgress done;
-  const std::string where = world.size > 1 ? fmt::format(" (rank {})", world.rank) : "";
+  const std::string where = world.size() > 1 ? fmt::format(" (rank {})", world.rank()) : "";
   // Every rank reaches each world.max, whatever it threw: none waits for a rank that left.
   std::optional<froth::Domain> domain;
   froth::FolderLock lock;  // rank 0 holds the folder until the run ends
@@ -248,7 +223,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
       [&] {
         domain = froth::load_regions(a.inputs, a.load_options());
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
-        if (world.rank == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
+        if (world.rank() == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
         return 0;
       },
       where);
@@ -259,7 +234,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
   done.built = world.sum(done.built);
   done.resumed = world.sum(done.resumed);
   done.failed = world.sum(done.failed);
-  if (world.rank != 0) return 0;
+  if (world.rank() != 0) return 0;
   const std::vector<int> failed = froth::write_ensemble_summary(*domain, opt, done);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   bar.clear();
@@ -268,7 +243,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, const World&
                "  {:<10}{} built, {} already complete{}; {:.3f} s ({:.2f} members per minute)\n"
                "  {:<10}{}/ensemble.pvd, {}/ensemble.json\n",
                a.members, a.input, a.r, a.seed, a.dir, "members", done.built, done.resumed,
-               world.size > 1 ? fmt::format(" on {} ranks", world.size) : "", seconds,
+               world.size() > 1 ? fmt::format(" on {} ranks", world.size()) : "", seconds,
                done.built > 0 ? 60.0 * double(done.built) / seconds : 0.0, "wrote", a.dir, a.dir);
   if (failed.empty()) return 0;
   // The other members are complete; the run fails with the first failed member's code.
@@ -362,28 +337,23 @@ int run_render(const RenderArgs& a) {
 }  // namespace
 
 // --partition: errors on one rank while the others wait in an exchange abort the whole run.
-static int run_partitioned(const MeshArgs& a, const World& world) {
-#ifdef FROTH_MPI
-  froth_cli::MpiCommunicator comm;
-#else
-  froth_cli::SoloCommunicator comm;
-#endif
+static int run_partitioned(const MeshArgs& a, froth::Communicator& world) {
   bool threw = true;
   const int code = froth_cli::run_with_exit_codes(
       [&] {
-        const int c = run_mesh_partitioned(a, comm);
+        const int c = run_mesh_partitioned(a, world);
         threw = false;
         return c;
       },
-      world.size > 1 ? fmt::format(" (rank {})", world.rank) : "");
+      world.size() > 1 ? fmt::format(" (rank {})", world.rank()) : "");
   if (!threw) return code;
 #ifdef FROTH_MPI
-  if (world.size > 1) MPI_Abort(MPI_COMM_WORLD, code);
+  if (world.size() > 1) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   return code;
 }
 
-int froth_main(int argc, char** argv, const World& world) {
+int froth_main(int argc, char** argv, froth::Communicator& world) {
   CLI::App app{"froth: uniform random Voronoi meshes by maximal Poisson-disk sampling"};
   app.set_version_flag("--version", FROTH_VERSION);
   app.require_subcommand(1);
@@ -456,7 +426,7 @@ int froth_main(int argc, char** argv, const World& world) {
     if (a.partition) return run_partitioned(a, world);
   }
   // Otherwise one mesh is made by one process.
-  if (world.rank != 0) return 0;
+  if (world.rank() != 0) return 0;
   return froth_cli::run_with_exit_codes([&] {
     if (mesh->parsed()) return run_mesh(a);
     if (quality->parsed()) return run_quality(qa);
@@ -468,15 +438,17 @@ int froth_main(int argc, char** argv, const World& world) {
 
 int main(int argc, char** argv) {
   froth::remove_temporaries_on_signal();
-  World world;
 #ifdef FROTH_MPI
   MPI_Init(&argc, &argv);
-  MPI_Comm_rank(MPI_COMM_WORLD, &world.rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &world.size);
-  const int code = froth_main(argc, argv, world);
+  int code;
+  {
+    froth_cli::MpiCommunicator world;
+    code = froth_main(argc, argv, world);
+  }
   MPI_Finalize();
   return code;
 #else
+  froth::SoloCommunicator world;
   return froth_main(argc, argv, world);
 #endif
 }

@@ -1,5 +1,6 @@
 // froth: uniform random Voronoi meshes by maximal Poisson-disk sampling.
 #pragma once
+#include "froth/communicator.hpp"
 #include "froth/domain.hpp"
 #include "froth/ensemble.hpp"
 #include "froth/error.hpp"

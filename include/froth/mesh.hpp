@@ -162,6 +162,10 @@ struct StageTiming {
   size_t peak_rss_bytes = 0;  // process peak resident memory when the stage ended
 };
 
+// The process's peak resident memory so far (Linux VmHWM), in bytes; 0 where unknown. Each
+// stage's StageTiming records it; a program that adds stages of its own (writing) does too.
+size_t peak_rss_bytes();
+
 struct SamplingLevel {
   size_t active_cubes = 0;  // at the start of the level
   size_t darts = 0;

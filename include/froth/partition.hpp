@@ -7,47 +7,18 @@
 #include <cstdint>
 #include <vector>
 
+#include "froth/communicator.hpp"
 #include "froth/mesh.hpp"
 
 namespace froth {
 
-// What the partitioned pipeline needs from the processes: ranks 0 .. size-1 in a line of slabs.
-// The library has no MPI dependency; froth's command line provides an MPI implementation and the
-// tests one made of threads. Every rank makes the same sequence of calls.
-class Communicator {
- public:
-  using Bytes = std::vector<uint8_t>;
-  virtual ~Communicator() = default;
-  virtual int rank() const = 0;
-  virtual int size() const = 0;
-  // Sends to_lower to rank - 1 and to_upper to rank + 1 (dropped at the ends of the line) and
-  // returns what rank - 1 sent up in from_lower and what rank + 1 sent down in from_upper.
-  virtual void exchange_with_neighbours(const Bytes& to_lower, const Bytes& to_upper, Bytes& from_lower,
-                                        Bytes& from_upper) = 0;
-  // Every rank's bytes, in rank order, on every rank.
-  virtual std::vector<Bytes> all_gather(const Bytes& mine) = 0;
-
-  // Plain values over all ranks, by all_gather (every rank calls them together).
-  std::vector<uint64_t> gather(uint64_t mine);  // every rank's, in rank order
-  uint64_t sum(uint64_t mine);
-  double max(double mine);
-  bool any(bool mine) { return sum(mine) > 0; }
-};
-
-// A rank's slab and its halos, in layers of base cubes (z index of the sampling grid).
-struct Slab {
-  int owned_begin = 0, owned_end = 0;  // layers this rank owns
-  int window_begin = 0, window_end = 0;  // with the halo, clamped to the grid
-};
-
-// Halo widths, in layers of base cubes (side r/sqrt(3)). Sampling: darts and seeds within r of
-// an owned cube, r / side = sqrt(3) < 2 layers. Cells: a rank builds its own cells and a ring of
+// The cells' halo widths, in layers of base cubes (side r/sqrt(3)); the sampling halo is
+// kSamplingHaloLayers (froth/communicator.hpp). A rank builds its own cells and a ring of
 // ghost cells around them so that welding sees every short edge at an owned vertex (the cells
 // sharing a vertex of an owned cell have seeds within 2r of an owned seed, Lemma 1: 2 sqrt(3) < 4
 // layers, plus one layer for chains of short edges); each of those cells needs the seeds within
 // its security radius, 2r mostly, but up to 2 sqrt(3) 1.05 r (the cube it is cut from) where a
 // part of it in the domain reaches beyond r (assembly/cell_builder.cpp): 7 more layers.
-constexpr int kSamplingHaloLayers = 2;
 constexpr int kGhostCellLayers = 5;
 constexpr int kCellHaloLayers = kGhostCellLayers + 7;
 

@@ -13,7 +13,7 @@
 
 #include "assembly/region_cells.hpp"
 #include "clip/clip_cell.hpp"
-#include "common/seed_ties.hpp"
+#include "voronoi/seed_ties.hpp"
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
 #include "sampling/mps.hpp"

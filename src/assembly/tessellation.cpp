@@ -21,7 +21,6 @@
 #include <fmt/format.h>
 
 #include "clip/clip_cell.hpp"
-#include "common/memory.hpp"
 #include "common/page_allocator.hpp"
 #include "common/tolerances.hpp"
 #include "froth/error.hpp"

@@ -1,4 +1,4 @@
-#include "common/memory.hpp"
+#include "froth/mesh.hpp"
 
 #include <fstream>
 #include <string>

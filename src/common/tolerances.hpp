@@ -9,7 +9,7 @@ namespace froth::tol {
 inline double on_plane(double r) { return 1e-11 * r; }
 
 // A seed vertex of a cell (three bisector planes) this close to another seed's bisector is cut
-// or kept by exact predicates (common/seed_ties.hpp), far above the float test's round-off.
+// or kept by exact predicates (voronoi/seed_ties.hpp), far above the float test's round-off.
 inline double seed_tie_band(double r) { return 1e-8 * r; }
 
 // A cell near a single facet plane is cut by it the quick way, as a convex domain's cells are,

@@ -16,7 +16,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "common/memory.hpp"
 #include "common/random.hpp"
 #include "froth/error.hpp"
 #include "froth/io.hpp"

@@ -12,7 +12,6 @@
 
 #include <fmt/format.h>
 
-#include "common/memory.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"

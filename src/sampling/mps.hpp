@@ -10,7 +10,7 @@
 #include "common/background_grid.hpp"
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
-#include "froth/partition.hpp"
+#include "froth/communicator.hpp"
 
 namespace froth {
 

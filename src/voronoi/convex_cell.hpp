@@ -52,7 +52,7 @@ class ConvexCell {
 
   enum class Clip { Unchanged, Cut, Empty, Failed };
 
-  // Decides near ties between seeds exactly (common/seed_ties.hpp): a vertex whose three planes
+  // Decides near ties between seeds exactly (voronoi/seed_ties.hpp): a vertex whose three planes
   // are seed bisectors, within band() of a seed's bisector, is cut or kept as conflict() says,
   // never snapped onto the plane, so every cell around it decides alike. Generators >= 0 are
   // seeds; the cell's own seed is `self` in clip().

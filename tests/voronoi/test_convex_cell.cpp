@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "voronoi/convex_cell.hpp"
-#include "common/seed_ties.hpp"
+#include "voronoi/seed_ties.hpp"
 
 #include <algorithm>
 #include <random>
@@ -137,7 +137,7 @@ TEST(ConvexCell, MorePlanesThanItCanNameFailCleanly) {
 // Protection seeds at the corners of a rectangular pocket lie on one circle, and with a fifth
 // seed nearly on one sphere (ADIS16480 at --cells 5990 --seed 291675: 1e-11 r off it). The float
 // test alone made one cell see a vertex of five seeds that a neighbour saw as two of four. With
-// the exact tie-breaker (common/seed_ties.hpp) every cell decides alike: every vertex of the five
+// the exact tie-breaker (voronoi/seed_ties.hpp) every cell decides alike: every vertex of the five
 // cells has four seeds, and each of its seeds' cells has it too.
 namespace {
 // Vertex names (with the cell's own seed, sorted) of the cells of seeds [0, core).

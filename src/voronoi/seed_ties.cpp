@@ -1,4 +1,4 @@
-#include "common/seed_ties.hpp"
+#include "voronoi/seed_ties.hpp"
 
 #include <algorithm>
 
