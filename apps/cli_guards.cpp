@@ -1,6 +1,11 @@
 #include "cli_guards.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <filesystem>
 #include <new>
 #include <system_error>
@@ -48,6 +53,27 @@ void refuse_same_files(const std::vector<std::pair<std::string, std::string>>& p
                                 "name",
                                 what_a, what_b, b));
     }
+}
+
+void refuse_unwritable_outputs(const std::vector<std::pair<std::string, std::string>>& paths) {
+  namespace fs = std::filesystem;
+  for (const auto& [what, path] : paths) {
+    std::error_code ec;
+    if (path.empty() || (fs::exists(path, ec) && !fs::is_regular_file(path, ec) && !fs::is_directory(path, ec)))
+      continue;  // a device (/dev/null) takes what it is given
+    fs::path folder = fs::absolute(path, ec).parent_path();
+    while (!folder.empty() && !fs::exists(folder, ec) && folder != folder.root_path()) folder = folder.parent_path();
+    if (!fs::is_directory(folder, ec))
+      froth::fail(froth::ErrorKind::Io, fmt::format("cannot write {} {}: {} is not a folder", what, path, folder.string()));
+    const fs::path probe = folder / fmt::format(".froth-write-test{}", getpid());
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0)
+      froth::fail(froth::ErrorKind::Io, fmt::format("cannot write {} {}: no file can be made in {} ({}); choose "
+                                                    "another folder",
+                                                    what, path, folder.string(), std::strerror(errno)));
+    ::close(fd);
+    ::unlink(probe.c_str());
+  }
 }
 
 uint64_t parse_seed(const std::string& text) {

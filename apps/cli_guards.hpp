@@ -14,6 +14,11 @@ namespace froth_cli {
 // empty paths and box specs skipped. E.g. {{"the input", in}, {"-o", out}, {"--report", rep}}.
 void refuse_same_files(const std::vector<std::pair<std::string, std::string>>& paths);
 
+// Refuses (froth::Error, Io) before any work when an output cannot be written: the nearest
+// folder of each {what, path} that exists (a polyMesh folder's case may not yet) must be a
+// folder where a file can be made. Tried by making one, as root passes every permission test.
+void refuse_unwritable_outputs(const std::vector<std::pair<std::string, std::string>>& paths);
+
 // An unsigned 64-bit seed in decimal; Usage error naming the value otherwise (CLI11 would clamp
 // 2^64 to 2^64 - 1 and wrap a negative one around).
 uint64_t parse_seed(const std::string& text);

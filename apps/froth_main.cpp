@@ -101,6 +101,7 @@ int run_mesh(const MeshArgs& a) {
       {{"the input", a.input}, {"-o", output}, {"--report", a.report}, {"--boundary", a.boundary}});
   froth_cli::refuse_unknown_mesh_format("-o", output);
   if (!a.boundary.empty()) froth_cli::refuse_unknown_format("--boundary", a.boundary, {".vtu"});
+  if (!a.dry_run) froth_cli::refuse_unwritable_outputs({{"-o", output}, {"--report", a.report}, {"--boundary", a.boundary}});
   const Reading reading(a);
   const froth::Domain& domain = reading.domain;
   froth::MeshOptions opt = options_of(a);
@@ -136,6 +137,7 @@ int run_mesh_partitioned(const MeshArgs& a, froth::Communicator& comm) {
   std::filesystem::path output = a.output.empty() ? default_output(a.input) : a.output;
   if (output.extension() == ".vtu") output.replace_extension(".pvtu");
   froth_cli::refuse_unknown_format("-o with --partition", output.string(), {".pvtu"});
+  froth_cli::refuse_unwritable_outputs({{"-o", output.string()}, {"--report", a.report}});
   const Reading reading(a);
   const froth::Domain& domain = reading.domain;
   froth::MeshOptions opt = options_of(a);
@@ -223,7 +225,10 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, froth::Commu
       [&] {
         domain = froth::load_regions(a.inputs, a.load_options());
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
-        if (world.rank() == 0) lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
+        if (world.rank() == 0) {
+          froth_cli::refuse_unwritable_outputs({{"-o", (std::filesystem::path(a.dir) / "ensemble.json").string()}});
+          lock = froth::prepare_ensemble_folder(*domain, opt, a.overwrite);
+        }
         return 0;
       },
       where);
@@ -270,6 +275,7 @@ std::string mesh_title(const std::string& path, const froth::PolyMesh& mesh) {
 
 int run_quality(const QualityArgs& a) {
   froth_cli::refuse_same_files({{"the mesh", a.input}, {"--json", a.json}, {"--plots", a.plots}});
+  froth_cli::refuse_unwritable_outputs({{"--json", a.json}, {"--plots", a.plots.empty() ? "" : a.plots + "/aspect.png"}});
   if (a.threads > 0) omp_set_num_threads(a.threads);
   froth::PolyMesh mesh = froth::read_vtu(a.input);
   mesh.volumes.clear();  // the check measures the file's geometry, not the volumes it claims
@@ -298,6 +304,7 @@ struct ConvertArgs {
 int run_convert(const ConvertArgs& a) {
   froth_cli::refuse_same_files({{"the mesh", a.input}, {"-o", a.output}});
   froth_cli::refuse_unknown_mesh_format("-o", a.output);
+  froth_cli::refuse_unwritable_outputs({{"-o", a.output}});
   const froth::PolyMesh mesh = froth::read_vtu(a.input);
   froth::RunReport run;  // what the VTU's field data keep
   run.r = mesh.r;
@@ -319,6 +326,7 @@ struct RenderArgs {
 int run_render(const RenderArgs& a) {
   froth_cli::refuse_same_files({{"the mesh", a.input}, {"-o", a.output}});
   froth_cli::refuse_unknown_format("-o", a.output, {".png"}, "PNG images");
+  froth_cli::refuse_unwritable_outputs({{"-o", a.output}});
   froth::read_vtu(a.input);  // a clear error (exit 3 or 4) for a file that is not a polyhedral VTU
   const std::string tmp = fmt::format("{}.tmp{}.png", a.output, getpid());
   try {

@@ -45,11 +45,14 @@ void run_python_script(const std::string& name, const std::vector<std::string>& 
     _exit(127);
   }
   int status = 0;
-  if (pid < 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+  const bool waited = pid > 0 && waitpid(pid, &status, 0) == pid;
+  const int code = waited && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  // Exit status 2: the script refused its arguments (its message is above), a usage error.
+  if (code == 2) froth::fail(froth::ErrorKind::Usage, fmt::format("could not {}: the arguments were refused (above)", what));
+  if (code != 0)
     froth::fail(froth::ErrorKind::Io,
                 fmt::format("could not {} ({} with /usr/bin/python3{}; exit status {})", what, script,
-                            virtual_display ? " under /usr/bin/xvfb-run (Debian xvfb and xauth)" : "",
-                            WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+                            virtual_display ? " under /usr/bin/xvfb-run (Debian xvfb and xauth)" : "", code));
 }
 
 }  // namespace froth_cli

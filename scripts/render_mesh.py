@@ -72,7 +72,10 @@ def main(mesh, out, colour="kind", width=1200, height=900):
         mapper.SetScalarRange(0, 3)
     else:
         if shown.GetCellData().GetArray(colour) is None:
-            sys.exit(f"{mesh}: no cell array named {colour}")
+            cd = shown.GetCellData()
+            names = ", ".join(cd.GetArrayName(i) for i in range(cd.GetNumberOfArrays()))
+            print(f"{mesh}: no cell array named {colour} (it has {names})", file=sys.stderr)
+            sys.exit(2)  # the arguments are wrong: froth render exits 2 (usage)
         mapper.SetScalarModeToUseCellFieldData()
         mapper.SelectColorArray(colour)
         mapper.SetScalarRange(shown.GetCellData().GetArray(colour).GetRange(0))

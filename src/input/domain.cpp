@@ -358,7 +358,7 @@ namespace {
 
 void check_feature_angle(double degrees) {
   if (!(degrees > 0 && degrees < 180))
-    fail(ErrorKind::Usage, fmt::format("the feature angle must be between 0 and 180 degrees, got {}", degrees));
+    fail(ErrorKind::Usage, fmt::format("the feature angle must be strictly between 0 and 180 degrees, got {}", degrees));
 }
 
 // The features of the domain's surface, and the reflex curves protection seeds (paper §2.2).

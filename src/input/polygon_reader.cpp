@@ -163,6 +163,9 @@ Soup read_obj(const std::string& file, const std::string& text) {
         const int64_t i = whole(file, lines, ref, "a vertex index");
         // 1-based; negative counts back from the last vertex so far.
         if (i == 0) bad(file, fmt::format("line {}: vertex index 0 (OBJ counts from 1)", lines.number()));
+        if (i < 0 && -i > int64_t(s.points.size()))
+          bad(file, fmt::format("line {}: vertex index {} counts back past the first vertex ({} are defined so far)",
+                                lines.number(), i, s.points.size()));
         s.corners.push_back(i > 0 ? i - 1 : int64_t(s.points.size()) + i);
       }
       s.face_begin.push_back(s.corners.size());

@@ -85,12 +85,15 @@ class RegionBuilder {
       }
       const bool same = runs(tri_[u], occ_[k].v[0], occ_[k].v[1]);
       const int32_t side = 2 * u + (same ? 0 : 1);  // the input's inside is behind its winding
-      if (!added && material_[size_t(side)] != -1)
+      if (!added && material_[size_t(side)] != -1) {
+        const int32_t first = occ_[size_t(first_occ_[u])].body, again = occ_[k].body;
+        const std::string which = first == again ? "two solids of this file"
+                                                 : fmt::format("{} and {}", name_of_body(first), name_of_body(again));
         fail(ErrorKind::InvalidInput,
-             fmt::format("{}: triangle {} {} {} is listed twice the same way: {} and {} overlap there (solids that "
+             fmt::format("{}: triangle {} {} {} is listed twice the same way: {} overlap there (solids that "
                          "touch must list a shared face opposite ways)",
-                         name_of_body(occ_[k].body), where(V_[key[0]]), where(V_[key[1]]), where(V_[key[2]]),
-                         name_of_body(occ_[size_t(first_occ_[u])].body), name_of_body(occ_[k].body)));
+                         name_of_body(again), where(V_[key[0]]), where(V_[key[1]]), where(V_[key[2]]), which));
+      }
       material_[size_t(side)] = occ_[k].body >= 0 ? occ_[k].body : kUnknownBody;
       occ_of_side_.resize(material_.size(), -1);
       occ_of_side_[size_t(side)] = int32_t(k);

@@ -269,7 +269,7 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   if (types.size() != nc) bad(path, "the types array does not have one entry per cell");
   for (size_t c = 0; c < nc; ++c)
     if (types[c] != 42)
-      bad(path, fmt::format("cell {} has VTK type {}, not a polyhedron (42): froth quality reads polyhedral meshes", c,
+      bad(path, fmt::format("cell {} has VTK type {}, not a polyhedron (42): froth reads polyhedral meshes", c,
                             types[c]));
   const std::vector<int64_t> faces = rd.values<int64_t>(rd.array("Cells", "faces"));
   const std::vector<int64_t> faceoffsets = rd.values<int64_t>(rd.array("Cells", "faceoffsets"));

@@ -36,6 +36,8 @@ double available_memory() {
   return pages > 0 && page > 0 ? double(pages) * double(page) : 0;
 }
 
+constexpr double kMaxBackgroundCubes = 2e9;  // the sampler indexes base cubes with 32 bits
+
 double background_cubes(const Domain& domain, double r) {
   const double side = r / std::sqrt(3.0);
   const Vec3 size = domain.bounds.size();
@@ -145,9 +147,7 @@ void check_mesh_options(const Domain& domain, const MeshOptions& given, double s
          fmt::format("the domain is {:.3g} thick along {} ({:.3g} r): cells a million times wider than thick are no "
                      "mesh, and the sampler would refine without end; use r below {:.3g}",
                      size[thin], "xyz"[thin], size[thin] / opt.r, 1e6 * size[thin]));
-  const double cubes = background_cubes(domain, opt.r);
-  if (cubes > 2e9)  // the sampler indexes base cubes with 32 bits
-    fail(ErrorKind::Usage, fmt::format("r = {} is too small for this domain: {:.3g} background cubes", opt.r, cubes));
+  // Memory first: on most machines it is the nearer limit, and its message gives an r that fits.
   const double limit = opt.max_memory_bytes > 0 ? opt.max_memory_bytes : available_memory();
   RunEstimate e = estimate_run(domain, opt);
   e.bytes *= share, e.cells *= share;
@@ -158,6 +158,16 @@ void check_mesh_options(const Domain& domain, const MeshOptions& given, double s
                      "or a machine with more memory (a partitioned run spreads one mesh over several)",
                      opt.r, e.bytes / 1e9, e.cells, limit / 1e9, opt.max_memory_bytes > 0 ? " (the memory limit given)" : "",
                      fits));
+  }
+  const double cubes = background_cubes(domain, opt.r);
+  if (cubes > kMaxBackgroundCubes) {
+    MeshOptions fits = opt;
+    fits.r = opt.r * std::cbrt(cubes / kMaxBackgroundCubes) * 1.02;
+    fail(ErrorKind::Usage,
+         fmt::format("r = {} needs {:.3g} background cubes (side r/sqrt(3), over the domain's bounding box), and the "
+                     "sampler numbers them with 32 bits, up to {:.3g}: use r of {:.3g} or more (about {:.3g} cells "
+                     "for this part)",
+                     opt.r, cubes, kMaxBackgroundCubes, fits.r, estimate_run(domain, fits).cells));
   }
 }
 

@@ -196,7 +196,7 @@ for args, code, words in [
     (["box:0,0,0,1,1,1", "-r", "0.3", "--threads", "-2"], 2, "not in range"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "0.5"], 2, "weld tolerance must be in [0, r)"),
     (["box:0,0,0,1,1,1", "-r", "0.3", "--weld", "-1"], 2, "--weld"),
-    (["box:0,0,0,1,1,1", "-r", "0.3", "--feature-angle", "190"], 2, "feature angle must be between 0 and 180"),
+    (["box:0,0,0,1,1,1", "-r", "0.3", "--feature-angle", "190"], 2, "feature angle must be strictly between 0 and 180"),
     # The grading options mean nothing without --grade (issue 40: they were ignored silently),
     # and a bad grading is refused whatever the part (a box has no thin wall to grade to).
     (["box:0,0,0,1,1,1", "-r", "0.3", "--min-r", "0.1"], 2, "--min-r requires --grade"),
@@ -251,7 +251,7 @@ if p.returncode == 0:
 # it do, is listed under failed_members and the others go on.)
 ens = os.path.join(tmp, "failing_ens")
 p = froth("ensemble", "box:0,0,0,1,1,1", "-r", "1e-4", "-n", "2", "--seed", "1", "-o", ens)
-check(p.returncode == 2 and "too small" in p.stderr and not os.path.exists(ens),
+check(p.returncode == 2 and "use r of" in p.stderr and not os.path.exists(ens),
       f"ensemble with r too small: {p.returncode} {p.stderr}")
 
 # A graded ensemble resumes as a uniform one does, and its members record the grading: the same

@@ -84,6 +84,34 @@ row("--plots where nothing can be written", froth("quality", "m.vtu", "--plots",
 os.mkdir(os.path.join(tmp, "adir.stl"))
 row("input is a directory", froth("mesh", "adir.stl", "-r", "0.3"), 4, "is a directory")
 
+# Outputs that cannot be written are refused before any work (issue 40: a read-only folder failed
+# only after the whole mesh). /proc takes no new file, even from root, whom permissions let by.
+t0 = time.time()
+row("-o where nothing can be written", froth("mesh", "box:0,0,0,1,1,1", "-r", "0.01", "-o", "/proc/m.vtu"), 4,
+    "no file can be made in /proc")
+if time.time() - t0 > 5:
+    failures.append("-o where nothing can be written: refused only after meshing")
+row("convert where nothing can be written", froth("convert", "m.vtu", "-o", "/proc/case/constant/polyMesh"), 4,
+    "no file can be made in /proc")
+row("ensemble where nothing can be written", froth("ensemble", "in.off", "-r", "0.3", "-n", "2", "-o", "/proc/ens"),
+    4, "no file can be made in /proc")
+row("render where nothing can be written", froth("render", "m.vtu", "-o", "/proc/m.png"), 4,
+    "no file can be made in /proc")
+row("render --color of no array", froth("render", "m.vtu", "--color", "nosuch", "-o", "m.png"), 2,
+    "no cell array named nosuch (it has", absent=["m.png*"])
+row("--feature-angle 0", froth("mesh", "in.off", "-r", "0.3", "--feature-angle", "0"), 2,
+    "strictly between 0 and 180 degrees, got 0")
+open(os.path.join(tmp, "back.obj"), "w").write(
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 -9\nf 2 3 4\n")
+row("OBJ index counting back past the first vertex", froth("mesh", "back.obj", "-r", "0.3"), 3,
+    "line 7: vertex index -9 counts back past the first vertex (4 are defined so far)")
+two = "solid a\n" + "".join(
+    f"facet normal 0 0 0\nouter loop\nvertex {a}\nvertex {b}\nvertex {c}\nendloop\nendfacet\n"
+    for a, b, c in [("0 0 0", "0 1 0", "1 0 0"), ("0 0 0", "1 0 0", "0 0 1"), ("0 0 0", "0 0 1", "0 1 0"),
+                    ("1 0 0", "0 1 0", "0 0 1")]) + "endsolid a\n"
+open(os.path.join(tmp, "twice.stl"), "w").write(two + two.replace("solid a", "solid b"))
+row("two solids of one file on one face", froth("mesh", "twice.stl", "-r", "0.3"), 3, "two solids of this file")
+
 # Ensembles: onto a file, and a usage error, leave nothing new.
 open(os.path.join(tmp, "afile"), "w").write("x")
 row("ensemble -o onto a file", froth("ensemble", "in.off", "-r", "0.3", "-n", "2", "-o", "afile"), 4, "not a folder",
