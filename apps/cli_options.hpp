@@ -33,7 +33,7 @@ struct CommonArgs {
   bool quiet = false, verbose = false;
 
   Verbosity verbosity() const { return quiet ? Verbosity::Quiet : verbose ? Verbosity::Verbose : Verbosity::Normal; }
-  froth::DomainOptions load_options() const { return {feature_angle, repair}; }
+  froth::DomainOptions load_options() const { return {feature_angle, repair, max_memory_gb * 1e9}; }
 };
 
 // Registers INPUT, -r, --seed, --weld, --threads, --no-quality, --feature-angle, --repair,

@@ -305,10 +305,19 @@ int run_convert(const ConvertArgs& a) {
   froth_cli::refuse_same_files({{"the mesh", a.input}, {"-o", a.output}});
   froth_cli::refuse_unknown_mesh_format("-o", a.output);
   froth_cli::refuse_unwritable_outputs({{"-o", a.output}});
-  const froth::PolyMesh mesh = froth::read_vtu(a.input);
   froth::RunReport run;  // what the VTU's field data keep
-  run.r = mesh.r;
-  run.seed = mesh.random_seed.value_or(0);
+  froth::PolyMesh mesh = froth::read_vtu(a.input, &run);
+  // The file's geometry is checked as `quality` checks it (not the volumes it claims): an open
+  // or inverted cell would reach a solver as a negative volume.
+  std::vector<double> claimed = std::move(mesh.volumes);
+  mesh.volumes.clear();
+  const froth::MeshCheck check = froth::check_mesh(mesh);
+  if (!check.ok())
+    froth::fail(froth::ErrorKind::InvalidInput,
+                fmt::format("{}: not a valid mesh, so it is not converted: {} open cells, {} cells of volume zero or "
+                            "less; first: {}",
+                            a.input, check.open_cells, check.nonpositive_cells, check.first_problem));
+  mesh.volumes = std::move(claimed);
   froth::write_mesh(mesh, run, a.output);
   if (!a.quiet)
     fmt::print("froth: converted {} ({} cells)\n  {:<10}{}\n", a.input, mesh.cell_count(), "wrote", a.output);
@@ -328,16 +337,16 @@ int run_render(const RenderArgs& a) {
   froth_cli::refuse_unknown_format("-o", a.output, {".png"}, "PNG images");
   froth_cli::refuse_unwritable_outputs({{"-o", a.output}});
   froth::read_vtu(a.input);  // a clear error (exit 3 or 4) for a file that is not a polyhedral VTU
-  const std::string tmp = fmt::format("{}.tmp{}.png", a.output, getpid());
-  try {
-    froth_cli::run_python_script("render_mesh.py", {a.input, tmp, a.colour, std::to_string(a.width), std::to_string(a.height)},
-                                 true, fmt::format("render {} (python3-vtk9)", a.input));
-    std::filesystem::rename(tmp, a.output);
-  } catch (...) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw;
-  }
+  // (The PNG's folder is made as every output's is; VTK names no reason when it cannot write.)
+  std::filesystem::create_directories(std::filesystem::absolute(a.output).parent_path());
+  froth::write_atomically_by_name(
+      a.output,
+      [&](const std::filesystem::path& tmp) {
+        froth_cli::run_python_script("render_mesh.py",
+                                     {a.input, tmp.string(), a.colour, std::to_string(a.width), std::to_string(a.height)},
+                                     true, fmt::format("render {} (python3-vtk9)", a.input));
+      },
+      ".png");
   if (!a.quiet) fmt::print("froth: rendered {}\n  {:<10}{}\n", a.input, "wrote", a.output);
   return 0;
 }

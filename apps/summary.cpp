@@ -23,6 +23,14 @@ std::vector<std::string> notes(const froth::RunReport& run) {
   if (run.cells_requested > 0)
     out.push_back(fmt::format("r = {} was chosen for about {:.6g} cells; -r {} repeats this mesh", run.r,
                               run.cells_requested, run.r));
+  if (run.welding && run.welding->clusters_refused > 0)
+    out.push_back(fmt::format(
+        "welding refused {} clusters of vertices closer than w = {:.3g} = {:.3g} r (merging one would pinch a face, "
+        "move a vertex off the surface or flatten a cell), and collapsed {} edges. A cluster is every vertex joined "
+        "to it by edges shorter than w and is refused whole, so a larger w, whose clusters join, can collapse fewer "
+        "edges: keep w well below r (the default is 1e-4 r)",
+        run.welding->clusters_refused, run.welding->tolerance, run.welding->tolerance / run.r,
+        run.welding->edges_collapsed));
   if (run.input.reoriented_triangles)
     out.push_back(fmt::format("--repair reoriented {} triangles", run.input.reoriented_triangles));
   for (const auto& [what, m] : {std::pair{"walls", run.feature_size.thickness}, std::pair{"gaps", run.feature_size.gap}})
@@ -121,9 +129,11 @@ std::string details(const froth::RunReport& run) {
                                       run.sampling.vertex_seeds, run.sampling.edge_seeds));
   if (run.welding) {
     const froth::WeldStats& w = *run.welding;
-    out += line("welding", fmt::format("w = {:.3g}: {} edges collapsed, {} faces removed, shortest edge {:.3g} -> {:.3g}, "
-                                       "vertices moved at most {:.3g}, faces non-planar by at most {:.2g} r",
-                                       w.tolerance, w.edges_collapsed, w.faces_removed, w.shortest_edge_before,
+    out += line("welding", fmt::format("w = {:.3g}: {} edges collapsed, {} faces removed, {} clusters refused, shortest "
+                                       "edge {:.3g} -> {:.3g}, vertices moved at most {:.3g}, faces non-planar by at "
+                                       "most {:.2g} r",
+                                       w.tolerance, w.edges_collapsed, w.faces_removed, w.clusters_refused,
+                                       w.shortest_edge_before,
                                        w.shortest_edge_after, w.max_displacement, w.max_nonplanarity));
   }
   if (run.quality) {

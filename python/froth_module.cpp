@@ -60,7 +60,14 @@ froth::MeshOptions mesh_options(double r, double cells, uint64_t seed, std::opti
   return opt;
 }
 
-Mesh make_mesh(const froth::Domain& domain, const froth::MeshOptions& opt) {
+// Called without the GIL. Ctrl-C reaches Python's handler only when Python runs: the run asks,
+// as each stage starts and as sampling and cells go, whether a signal is pending (its handler
+// raises KeyboardInterrupt, which then stops the run and is raised to the caller).
+Mesh make_mesh(const froth::Domain& domain, froth::MeshOptions opt) {
+  opt.interrupted = [] {
+    py::gil_scoped_acquire held;
+    return PyErr_CheckSignals() != 0;
+  };
   Mesh m;
   m.mesh = froth::generate_mesh(domain, opt, &m.run);
   return m;
@@ -127,6 +134,10 @@ void add_exceptions(py::module_& m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const froth::Error& err) {
+      if (err.kind() == froth::ErrorKind::Interrupted) {  // the signal handler's exception is pending
+        if (!PyErr_Occurred()) PyErr_SetNone(PyExc_KeyboardInterrupt);
+        return;
+      }
       PyErr_SetString(exceptions().by_kind[err.exit_code()], err.what());
     } catch (const std::filesystem::filesystem_error& err) {  // exit 4 on the command line
       PyErr_SetString(exceptions().by_kind[int(froth::ErrorKind::Io)], err.what());
@@ -303,9 +314,7 @@ PYBIND11_MODULE(_froth, m) {
       [](const std::filesystem::path& path) {
         py::gil_scoped_release unlocked;
         Mesh m;
-        m.mesh = froth::read_vtu(path);
-        m.run.r = m.mesh.r;  // what the VTU's field data keep, as froth convert does
-        m.run.seed = m.mesh.random_seed.value_or(0);
+        m.mesh = froth::read_vtu(path, &m.run);  // with what the VTU's field data keep, as froth convert does
         return m;
       },
       "A mesh read back from a froth VTU (cell data and field data as written)", py::arg("path"));

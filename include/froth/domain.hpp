@@ -25,11 +25,15 @@ struct TriangleSurface {
   std::vector<std::string> patch_names;
 };
 
-// Reads binary or ASCII STL (ASCII may hold several `solid` blocks). Throws Error.
-TriangleSurface read_stl(const std::filesystem::path& path);
+// Reads binary or ASCII STL (ASCII may hold several `solid` blocks). The file may take a quarter
+// of `max_memory_bytes` (0: the memory available); a binary STL is read no further than its
+// triangle count says. Throws Error.
+TriangleSurface read_stl(const std::filesystem::path& path, double max_memory_bytes = 0);
 
-// Reads OFF, OBJ or PLY (ASCII or binary); polygons are fanned into triangles. Throws Error.
-TriangleSurface read_polygon_file(const std::filesystem::path& path);
+// Reads OFF, OBJ or PLY (ASCII or binary); polygons are fanned into triangles. Memory as for
+// read_stl; a text file (or PLY header) holding a NUL byte is refused from its first bytes.
+// Throws Error.
+TriangleSurface read_polygon_file(const std::filesystem::path& path, double max_memory_bytes = 0);
 
 // Counts of the input surface's features (see src/features).
 struct FeatureSummary {
@@ -117,6 +121,7 @@ struct RegionSet {
 struct DomainOptions {
   double feature_angle = kDefaultFeatureAngle;  // degrees
   bool repair = false;  // reorient shells whose triangles are inconsistently wound
+  double max_memory_bytes = 0;  // what reading may take: a quarter of it for the file (0: the memory available)
 };
 
 Domain make_box_domain(Vec3 lo, Vec3 hi);

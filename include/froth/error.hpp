@@ -10,6 +10,7 @@ enum class ErrorKind {
   InvalidInput = 3,  // the input surface is unreadable or not a valid domain
   Io = 4,            // a file could not be read or written
   Internal = 5,      // a guarantee failed inside froth: a bug, never the user's fault
+  Interrupted = 130, // MeshOptions::interrupted asked the run to stop (130: as for SIGINT)
 };
 
 class Error : public std::runtime_error {

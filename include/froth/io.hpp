@@ -63,12 +63,24 @@ void write_pvtu(const std::vector<std::string>& pieces, bool with_quality, bool 
 // A polyhedral VTU (any VTK writer: ascii, base64 or appended raw data, zlib-compressed or not)
 // as a mesh: cells must be VTK_POLYHEDRON. Faces shared by two cells become interior faces;
 // seeds come from the "seed" cell data, else each cell's vertex mean; kinds from "kind", else
-// fringe where a cell has a border face. Throws Error (Io, InvalidInput).
-PolyMesh read_vtu(const std::filesystem::path& path);
+// fringe where a cell has a border face; froth's other cell arrays (quality measures, parents,
+// regions, centres, radii) where present. `recorded`, if given, gets the run's figures the field
+// data keep (r, seed, weld, the grading options). Throws Error (Io, InvalidInput).
+PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded = nullptr);
+
+// Writes `path` through a temporary name beside it (PATH.tmpPID, with `extension` appended if
+// given), for a writer that opens files by name (Exodus II, a script): `write` is given the
+// temporary path to create; it is renamed into place (or deferred, in an OutputGroup) when
+// `write` returns, and removed when it throws. A symbolic link keeps pointing at its (replaced)
+// target; temporaries of PATH left by processes that no longer run are removed first.
+void write_atomically_by_name(const std::filesystem::path& path,
+                              const std::function<void(const std::filesystem::path& tmp)>& write,
+                              const std::string& extension = "");
 
 // While one is alive (on this thread), the writers leave each finished file under its temporary
-// name; commit() renames them all into place, and a group destroyed before then removes them:
-// outputs that belong together (a mesh and its report) appear together or not at all.
+// name; commit() renames them all into place, and a group destroyed before then removes them and
+// the folders made for them: outputs that belong together (a mesh and its report, an OpenFOAM
+// case's files) appear together or not at all. A group within a group commits into the outer.
 class OutputGroup {
  public:
   OutputGroup();
@@ -77,9 +89,11 @@ class OutputGroup {
   OutputGroup& operator=(const OutputGroup&) = delete;
   void commit();
   void defer(const std::filesystem::path& tmp, const std::filesystem::path& target);  // (the writers' part)
+  void made_folder(const std::filesystem::path& folder);                              // (the writers' part)
 
  private:
   std::vector<std::pair<std::filesystem::path, std::filesystem::path>> pending_;
+  std::vector<std::filesystem::path> folders_;
   OutputGroup* outer_;
 };
 

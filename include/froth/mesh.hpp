@@ -143,6 +143,9 @@ struct MeshOptions {
   // Told when a stage starts (fraction 0) and, for sampling and cells, as it goes (fraction of
   // the domain covered, of the cells built), from one thread.
   std::function<void(const std::string& stage, double fraction)> progress;
+  // Asked as each stage starts and as sampling and cells go (from the calling thread); true stops
+  // the run with Error(Interrupted). Python asks it whether Ctrl-C was pressed.
+  std::function<bool()> interrupted;
   // A radius graded to the input's thin walls and gaps (sampling/sizing.hpp): h(x) <= r, at
   // least min_r (0: the default, r/4 or above: sampling/sizing.hpp), with slope `grading` along
   // the sizing grid. Off: h = r everywhere.
@@ -165,6 +168,10 @@ struct StageTiming {
 // The process's peak resident memory so far (Linux VmHWM), in bytes; 0 where unknown. Each
 // stage's StageTiming records it; a program that adds stages of its own (writing) does too.
 size_t peak_rss_bytes();
+
+// The memory a run may take where no limit is given: MemAvailable from /proc/meminfo, else the
+// physical memory; 0 if neither is known.
+double available_memory();
 
 struct SamplingLevel {
   size_t active_cubes = 0;  // at the start of the level

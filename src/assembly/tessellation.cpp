@@ -14,6 +14,7 @@
 #include <functional>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <mutex>
 #include <optional>
@@ -238,6 +239,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   std::mutex error_mutex;
   size_t first_bad = n;
   CellBuilder::CellError first_error;
+  std::atomic<bool> stop = false;
+  std::exception_ptr stopped;
   // A convex domain's cells are cut by its planes; if one overflows (a cone's apex, where more
   // planes meet than a ConvexCell holds), every cell is built again clipped to the surface, as a
   // non-convex domain's are, so that all cells name their vertices alike.
@@ -260,6 +263,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       std::vector<ConvexCell::Names> names;
 #pragma omp for schedule(dynamic, 1)
       for (size_t c = 0; c < nchunks; ++c) {
+        if (stop.load(std::memory_order_relaxed)) continue;
         CellChunk& ch = chunks[c];
         ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
         for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
@@ -283,9 +287,17 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
           if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
         }
         const size_t finished = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
-        if (progress && omp_get_thread_num() == 0) progress(double(finished) / double(nchunks));
+        // The caller may stop the run from its progress callback: its error is carried out of
+        // the threads, which skip the chunks left.
+        if (progress && omp_get_thread_num() == 0) try {
+            progress(double(finished) / double(nchunks));
+          } catch (...) {
+            stopped = std::current_exception();
+            stop.store(true, std::memory_order_relaxed);
+          }
       }
     }
+    if (stopped) std::rethrow_exception(stopped);
     if (times) times->recut_cells = builder.recut_cells();
     if (!(first_error.failed() && first_error.cut_failed && !clip_convex)) break;
   }

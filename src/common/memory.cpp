@@ -1,5 +1,7 @@
 #include "froth/mesh.hpp"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <string>
 
@@ -17,6 +19,18 @@ size_t peak_rss_bytes() {
     status.ignore(1 << 20, '\n');
   }
   return 0;
+}
+
+double available_memory() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (in >> key >> kib) {
+    if (key == "MemAvailable:") return kib * 1024;
+    in.ignore(1 << 20, '\n');
+  }
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? double(pages) * double(page) : 0;
 }
 
 }  // namespace froth

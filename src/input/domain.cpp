@@ -388,15 +388,15 @@ Domain domain_from_surface(const TriangleSurface& surface, const std::string& na
 
 namespace {
 
-TriangleSurface read_surface(const std::string& input) {
+TriangleSurface read_surface(const std::string& input, const DomainOptions& options) {
   std::filesystem::path path(input);
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     fail(ErrorKind::Io, fmt::format("{}: is a directory, not a surface file (STL, OFF, OBJ or PLY)", input));
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext == ".stl") return read_stl(path);
-  if (ext == ".off" || ext == ".obj" || ext == ".ply") return read_polygon_file(path);
+  if (ext == ".stl") return read_stl(path, options.max_memory_bytes);
+  if (ext == ".off" || ext == ".obj" || ext == ".ply") return read_polygon_file(path, options.max_memory_bytes);
   fail(ErrorKind::Usage,
        fmt::format("{}: unsupported input format '{}' (froth reads STL, OFF, OBJ and PLY, or box:X0,Y0,Z0,X1,Y1,Z1)",
                    input, ext));
@@ -417,7 +417,7 @@ Domain load_domain(const std::string& input, const DomainOptions& options) {
     find_features(d, options.feature_angle);
     return d;
   }
-  const TriangleSurface surface = read_surface(input);
+  const TriangleSurface surface = read_surface(input, options);
   const std::string name = std::filesystem::path(input).filename().string();
   return relative_to_part({surface}, [&](const std::vector<TriangleSurface>& s) {
     if (has_shared_triangles(s[0])) return regions_from_shared_triangles(s[0], name, options);
@@ -437,7 +437,7 @@ Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions&
       surfaces.push_back(box.surface);
       names.push_back(fmt::format("box_{}", names.size()));
     } else {
-      surfaces.push_back(read_surface(input));
+      surfaces.push_back(read_surface(input, options));
       names.push_back(std::filesystem::path(input).stem().string());
     }
     for (size_t k = 0; k + 1 < names.size(); ++k)

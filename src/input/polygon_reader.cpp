@@ -16,6 +16,7 @@
 
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
+#include "input/input_file.hpp"
 #include "input/vertex_merger.hpp"
 
 namespace froth {
@@ -82,7 +83,7 @@ std::errc parse(std::string_view w, T& v) {
 
 double number(const std::string& file, const Lines& at, std::string_view w) {
   double v;
-  if (parse(w, v) != std::errc()) bad(file, fmt::format("line {}: '{}' is not a number", at.number(), w));
+  if (parse(w, v) != std::errc()) bad(file, fmt::format("line {}: '{}' is not a number", at.number(), quoted_text(w)));
   return v;
 }
 
@@ -90,8 +91,8 @@ int64_t whole(const std::string& file, const Lines& at, std::string_view w, cons
   int64_t v;
   const std::errc ec = parse(w, v);
   if (ec == std::errc::result_out_of_range)
-    bad(file, fmt::format("line {}: {} '{}' is out of range (at most {})", at.number(), what, w, INT64_MAX));
-  if (ec != std::errc()) bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, w));
+    bad(file, fmt::format("line {}: {} '{}' is out of range (at most {})", at.number(), what, quoted_text(w), INT64_MAX));
+  if (ec != std::errc()) bad(file, fmt::format("line {}: {} '{}' is not a whole number", at.number(), what, quoted_text(w)));
   return v;
 }
 
@@ -112,7 +113,7 @@ Soup read_off(const std::string& file, const std::string& text) {
   const std::string_view head = w[0];
   if (head.size() < 3 || head.substr(head.size() - 3) != "OFF" ||
       head.substr(0, head.size() - 3).find_first_not_of("STCN") != std::string_view::npos)
-    bad(file, fmt::format("line 1: '{}' is not an OFF header (OFF, COFF, NOFF, STOFF...)", head));
+    bad(file, fmt::format("line 1: '{}' is not an OFF header (OFF, COFF, NOFF, STOFF...)", quoted_text(head)));
   w.erase(w.begin());
   if (w.empty()) {
     if (!lines.next(line)) bad(file, "no vertex and face counts after the header");
@@ -273,14 +274,14 @@ Soup read_ply(const std::string& file, const std::string& text) {
         ok = ply_type(w[1], p.type, p.is_float, p.is_signed);
         p.name = std::string(w[2]);
       }
-      if (!ok) bad(file, fmt::format("line {}: property '{}' is not one froth reads", lines.number(), line));
+      if (!ok) bad(file, fmt::format("line {}: property '{}' is not one froth reads", lines.number(), quoted_text(line)));
       elements.back().props.push_back(p);
     } else {
-      bad(file, fmt::format("line {}: '{}' is not a PLY header line", lines.number(), w[0]));
+      bad(file, fmt::format("line {}: '{}' is not a PLY header line", lines.number(), quoted_text(w[0])));
     }
   }
   if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-    bad(file, fmt::format("format '{}' (expected ascii, binary_little_endian or binary_big_endian)", format));
+    bad(file, fmt::format("format '{}' (expected ascii, binary_little_endian or binary_big_endian)", quoted_text(format)));
 
   Soup s;
   Lines body(text, data);
@@ -333,14 +334,21 @@ Soup read_ply(const std::string& file, const std::string& text) {
 
 }  // namespace
 
-TriangleSurface read_polygon_file(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(ErrorKind::Io, fmt::format("cannot open {}", path.string()));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  const std::string text = buf.str(), file = path.string();
+TriangleSurface read_polygon_file(const std::filesystem::path& path, double max_memory_bytes) {
+  const std::string file = path.string();
   std::string ext = path.extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  // Text (a PLY's header is) cannot hold NUL bytes: a zeroed or binary file is refused from its
+  // first bytes, not after reading all of it.
+  const std::string text = read_input_file(path, max_memory_bytes, [&](std::string_view head) {
+    if (ext == ".ply") {
+      if (head.substr(0, 3) != "ply") bad(file, fmt::format("not a PLY file: it starts '{}', not 'ply'", quoted_text(head.substr(0, 16))));
+      refuse_binary_text(file, head, "PLY header", head.find("end_header"));
+    } else {
+      refuse_binary_text(file, head, ext == ".off" ? "OFF" : "OBJ");
+    }
+    return SIZE_MAX;
+  });
   const Soup soup = ext == ".off" ? read_off(file, text) : ext == ".obj" ? read_obj(file, text) : read_ply(file, text);
   if (soup.face_begin.size() < 2) bad(file, fmt::format("no faces in this {} file", ext));
   TriangleSurface s;

@@ -11,6 +11,7 @@
 
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
+#include "input/input_file.hpp"
 #include "input/vertex_merger.hpp"
 
 namespace froth {
@@ -94,10 +95,15 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
 
 }  // namespace
 
-TriangleSurface read_stl(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) fail(ErrorKind::Io, fmt::format("{}: cannot open for reading", path.string()));
-  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+TriangleSurface read_stl(const std::filesystem::path& path, double max_memory_bytes) {
+  // A binary STL holds exactly 84 + 50 n bytes for its n triangles: nothing past that is read.
+  const std::string bytes = read_input_file(path, max_memory_bytes, [](std::string_view head) -> size_t {
+    const size_t start = head.find_first_not_of(" \t\r\n");
+    if (head.size() < 84 || (start != std::string_view::npos && head.compare(start, 5, "solid") == 0)) return SIZE_MAX;
+    uint32_t n;
+    std::memcpy(&n, head.data() + 80, 4);
+    return 84 + size_t(n) * 50;
+  });
   const std::string file = path.string();
   if (bytes.size() >= 84) {
     uint32_t n;

@@ -13,10 +13,12 @@ namespace froth {
 
 void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
 
-// The same for a writer that opens files by name (a library such as Exodus II): `write` is given
-// the temporary path to create; it is renamed into place (or deferred, in an OutputGroup) when
-// `write` returns, and removed when it throws.
-void write_atomically_by_name(const std::filesystem::path& path,
-                              const std::function<void(const std::filesystem::path& tmp)>& write);
+// PATH.tmpPID (PATH.tmpPIDEXTENSION with an extension), after removing the temporaries of PATH
+// that processes no longer running left (a SIGKILL'd run's).
+std::filesystem::path temporary_name(const std::filesystem::path& path, const std::string& extension = "");
+
+// Makes `folder` and its missing parents. Within an OutputGroup they are removed again (when
+// empty) if the group is not committed, and by the signal handler: no empty folders are left.
+void make_output_folder(const std::filesystem::path& folder);
 
 }  // namespace froth

@@ -14,6 +14,7 @@
 #include "froth/error.hpp"
 #include "froth/io.hpp"
 #include "froth/quality.hpp"
+#include "io/quality_fields.hpp"
 #include "io/atomic_file.hpp"
 
 #ifdef FROTH_EXODUS
@@ -59,14 +60,8 @@ std::vector<std::pair<std::string, std::vector<double>>> element_variables(const
   add("kernel", [&](size_t c) { return m.has_kernel(c) ? 1.0 : 0.0; });
   add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
   add("piece", [&](size_t c) { return double(m.piece_of(c)); });
-  if (m.quality.size() == n) {
-    add("aspect", [&](size_t c) { return m.quality[c].aspect; });
-    add("outradius", [&](size_t c) { return m.quality[c].outradius; });
-    add("inradius", [&](size_t c) { return m.quality[c].inradius; });
-    add("min_dihedral", [&](size_t c) { return m.quality[c].min_dihedral; });
-    add("max_dihedral", [&](size_t c) { return m.quality[c].max_dihedral; });
-    add("min_edge", [&](size_t c) { return m.quality[c].min_edge; });
-  }
+  if (m.quality.size() == n)
+    for (const auto& [name, member] : kQualityFields) add(name, [&m, member](size_t c) { return m.quality[c].*member; });
   return vars;
 }
 

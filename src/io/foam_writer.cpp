@@ -95,7 +95,7 @@ std::vector<FoamFace> foam_order(const PolyMesh& m, size_t& internal) {
 
 // A case's system/ files, minimal, so that checkMesh and paraFoam run on a new case.
 void write_minimal_system(const std::filesystem::path& system) {
-  std::filesystem::create_directories(system);
+  make_output_folder(system);
   const auto dict = [&](const char* object, const char* body) {
     write_atomically(system / object, [&](std::ostream& os) {
       Chunked out(os);
@@ -132,9 +132,9 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
     if (new_id[p] == 0) new_id[p] = used++, used_points.push_back(p);
   const std::string note = fmt::format("nPoints:{} nCells:{} nFaces:{} nInternalFaces:{}", used, m.cell_count(),
                                        faces.size(), internal);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) fail(ErrorKind::Io, fmt::format("{}: cannot create the polyMesh folder ({})", dir.string(), ec.message()));
+  // The case's files appear together, or neither they nor the folders made for them.
+  OutputGroup files;
+  make_output_folder(dir);
 
   write_atomically(dir / "points", [&](std::ostream& os) {
     Chunked out(os);
@@ -218,8 +218,10 @@ void write_openfoam(const PolyMesh& m, const std::filesystem::path& dir) {
   });
   // DIR = CASE/constant/polyMesh: a case without system/ gets a minimal one.
   const std::filesystem::path constant = std::filesystem::absolute(dir).lexically_normal().parent_path();
+  std::error_code ec;
   if (constant.filename() == "constant" && !std::filesystem::exists(constant.parent_path() / "system", ec))
     write_minimal_system(constant.parent_path() / "system");
+  files.commit();
 }
 
 }  // namespace froth

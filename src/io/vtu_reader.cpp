@@ -16,9 +16,11 @@
 #include <fmt/format.h>
 #include <pugixml.hpp>
 
+#include "common/cell_points.hpp"
 #include "froth/error.hpp"
 #include "froth/io.hpp"
 #include "froth/validate.hpp"
+#include "io/quality_fields.hpp"
 
 namespace froth {
 namespace {
@@ -88,6 +90,7 @@ class Reader {
     if (!piece_) bad(path, "no Piece in the UnstructuredGrid");
   }
 
+  size_t file_bytes() const { return bytes_.size(); }
   size_t points() const { return piece_.attribute("NumberOfPoints").as_ullong(); }
   size_t cells() const { return piece_.attribute("NumberOfCells").as_ullong(); }
 
@@ -106,26 +109,59 @@ class Reader {
     return {};
   }
 
-  // The array's values converted to T.
+  // The array's values converted to T. `count` is how many the file's counts make it hold: a
+  // block that declares another size is refused before it is inflated (a zlib bomb's blocks can
+  // inflate honestly to gigabytes for a handful of points).
   template <class T>
-  std::vector<T> values(pugi::xml_node a) const {
+  std::vector<T> values(pugi::xml_node a, uint64_t count) const {
     const std::string type = a.attribute("type").as_string(), format = a.attribute("format").as_string("ascii");
+    const char* name = a.attribute("Name").as_string();
     std::vector<T> out;
     if (format == "ascii") {
       std::istringstream in(a.child_value());
       double v;
-      while (in >> v) out.push_back(whole_if_needed<T>(v, a.attribute("Name").as_string()));
+      while (in >> v) out.push_back(whole_if_needed<T>(v, name));  // (text: the file's own size bounds it)
       return out;
     }
+    const uint64_t size = type_size(type, name);
+    if (count > std::numeric_limits<uint64_t>::max() / size)
+      bad(path_, fmt::format("array {}: {} values cannot be held", name, count));
+    const Expected expected{name, count * size, count};
     std::string raw;
-    if (format == "binary") raw = decode_block(a.child_value());
-    else if (format == "appended") raw = appended_block(a.attribute("offset").as_ullong());
-    else bad(path_, fmt::format("array {}: unknown format {}", a.attribute("Name").as_string(), format));
-    convert(type, raw, out, a.attribute("Name").as_string());
+    if (format == "binary") raw = decode_block(a.child_value(), expected);
+    else if (format == "appended") raw = appended_block(a.attribute("offset").as_ullong(), expected);
+    else bad(path_, fmt::format("array {}: unknown format {}", name, format));
+    convert(type, raw, out, name);
     return out;
   }
 
+  // A field data array's values: as many as its NumberOfTuples and NumberOfComponents say (a
+  // String array's tuples are its strings: froth writes those as text).
+  template <class T>
+  std::vector<T> field_values(pugi::xml_node a) const {
+    return values<T>(a, a.attribute("NumberOfTuples").as_ullong(1) * a.attribute("NumberOfComponents").as_ullong(1));
+  }
+
  private:
+  // What a data block must hold, from the counts in the XML.
+  struct Expected {
+    const char* name;
+    uint64_t bytes, values;
+  };
+
+  [[noreturn]] void wrong_size(const Expected& e, uint64_t declared) const {
+    bad(path_, fmt::format("array {}: its data block declares {} bytes, but its {} values take {} (corrupt or hostile)",
+                           e.name, declared, e.values, e.bytes));
+  }
+
+  uint64_t type_size(const std::string& type, const char* name) const {
+    if (type == "Float64" || type == "Int64" || type == "UInt64") return 8;
+    if (type == "Float32" || type == "Int32" || type == "UInt32") return 4;
+    if (type == "Int16" || type == "UInt16") return 2;
+    if (type == "Int8" || type == "UInt8") return 1;
+    bad(path_, fmt::format("array {}: unsupported type {}", name, type));
+  }
+
   uint64_t header_word(const std::string& s, size_t i) const {
     if (i >= s.size() / word()) bad(path_, "a data block's header is truncated");
     if (header64_) {
@@ -140,8 +176,14 @@ class Reader {
   size_t word() const { return header64_ ? 8 : 4; }
 
   // Uncompresses zlib blocks: header [blocks, block size, last size, compressed sizes...].
-  std::string inflate_blocks(const std::string& header, const std::string& data) const {
+  std::string inflate_blocks(const std::string& header, const std::string& data, const Expected& expected) const {
     const uint64_t blocks = header_word(header, 0), block = header_word(header, 1), last = header_word(header, 2);
+    // The sizes the blocks declare, checked against the counts before anything is inflated.
+    uint64_t declared = 0;
+    if (blocks > 0 && (__builtin_mul_overflow(blocks - 1, block, &declared) ||
+                       __builtin_add_overflow(declared, last != 0 ? last : block, &declared)))
+      declared = std::numeric_limits<uint64_t>::max();
+    if (declared > expected.bytes) wrong_size(expected, declared);  // fewer: the counts' checks name it
     std::string out;
     size_t at = 0;
     for (uint64_t b = 0; b < blocks; ++b) {
@@ -164,7 +206,7 @@ class Reader {
   }
 
   // An inline base64 block (binary format).
-  std::string decode_block(std::string_view text) const {
+  std::string decode_block(std::string_view text, const Expected& expected) const {
     // Strip leading whitespace.
     while (!text.empty() && std::isspace(uint8_t(text.front()))) text.remove_prefix(1);
     if (!compressed_) {
@@ -172,6 +214,7 @@ class Reader {
       if (all.size() < word()) bad(path_, "a binary data block is truncated");
       const uint64_t n = header_word(all, 0);
       if (n > all.size() - word()) bad(path_, "a binary data block is shorter than its header says");
+      if (n > expected.bytes) wrong_size(expected, n);
       return all.substr(word(), n);
     }
     // Compressed: the header is encoded on its own, then the data.
@@ -182,22 +225,23 @@ class Reader {
     const size_t header_chars = 4 * ((header_bytes + 2) / 3);
     if (header_chars > text.size()) bad(path_, fmt::format("a binary data block's header of {} blocks is truncated", blocks));
     const std::string header = base64_decode(text.substr(0, header_chars));
-    return inflate_blocks(header, base64_decode(text.substr(header_chars)));
+    return inflate_blocks(header, base64_decode(text.substr(header_chars)), expected);
   }
 
-  std::string appended_block(uint64_t offset) const {
+  std::string appended_block(uint64_t offset, const Expected& expected) const {
     if (appended_begin_ + offset > bytes_.size() || offset > bytes_.size())
       bad(path_, "an appended offset points past the end of the file");
     if (appended_base64_) {
       // Offsets count base64 characters.
       std::string_view rest(bytes_.data() + appended_begin_ + offset, bytes_.size() - appended_begin_ - offset);
-      return decode_block(rest.substr(0, rest.find('<')));
+      return decode_block(rest.substr(0, rest.find('<')), expected);
     }
     const size_t at = appended_begin_ + offset;
     if (at + word() > bytes_.size()) bad(path_, "an appended offset points past the end of the file");
     if (!compressed_) {
       const uint64_t n = header_word(bytes_.substr(at, word()), 0);
       if (n > bytes_.size() - at - word()) bad(path_, "an appended block runs past the end of the file");
+      if (n > expected.bytes) wrong_size(expected, n);
       return bytes_.substr(at + word(), n);
     }
     const uint64_t blocks = header_word(bytes_.substr(at, word()), 0);
@@ -208,7 +252,7 @@ class Reader {
       total += header_word(header, 3 + b);
       if (total > bytes_.size()) bad(path_, "an appended block's compressed sizes run past the end of the file");
     }
-    return inflate_blocks(header, bytes_.substr(at + header.size(), total));
+    return inflate_blocks(header, bytes_.substr(at + header.size(), total), expected);
   }
 
   // A value as T; a floating-point value read for an integer array (offsets, connectivity) must
@@ -257,23 +301,29 @@ class Reader {
 
 }  // namespace
 
-PolyMesh read_vtu(const std::filesystem::path& path) {
+PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded) {
   Reader rd(path);
   const size_t np = rd.points(), nc = rd.cells();
+  // Counts the file's bytes cannot hold, even inflated at zlib's best ratio, are refused before
+  // anything is sized by them.
+  if (np / 1032 > rd.file_bytes() || nc / 1032 > rd.file_bytes())
+    bad(path, fmt::format("{} points and {} cells cannot fit in its {} bytes", np, nc, rd.file_bytes()));
   PolyMesh m;
-  const std::vector<double> xyz = rd.values<double>(rd.array("Points", nullptr));
+  const std::vector<double> xyz = rd.values<double>(rd.array("Points", nullptr), 3 * uint64_t(np));
   if (xyz.size() != 3 * np) bad(path, fmt::format("{} point coordinates for {} points", xyz.size(), np));
   m.points.resize(np);
   for (size_t i = 0; i < np; ++i) m.points[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
-  const std::vector<int64_t> types = rd.values<int64_t>(rd.array("Cells", "types"));
+  const std::vector<int64_t> types = rd.values<int64_t>(rd.array("Cells", "types"), nc);
   if (types.size() != nc) bad(path, "the types array does not have one entry per cell");
   for (size_t c = 0; c < nc; ++c)
     if (types[c] != 42)
       bad(path, fmt::format("cell {} has VTK type {}, not a polyhedron (42): froth reads polyhedral meshes", c,
                             types[c]));
-  const std::vector<int64_t> faces = rd.values<int64_t>(rd.array("Cells", "faces"));
-  const std::vector<int64_t> faceoffsets = rd.values<int64_t>(rd.array("Cells", "faceoffsets"));
+  const std::vector<int64_t> faceoffsets = rd.values<int64_t>(rd.array("Cells", "faceoffsets"), nc);
   if (faceoffsets.size() != nc) bad(path, "the faceoffsets array does not have one entry per cell");
+  const int64_t face_stream = nc ? faceoffsets.back() : 0;
+  if (face_stream < 0) bad(path, fmt::format("cell {}: face offsets out of order", nc - 1));
+  const std::vector<int64_t> faces = rd.values<int64_t>(rd.array("Cells", "faces"), uint64_t(face_stream));
 
   // Face streams: per cell its face count, then per face its size and point ids.
   int64_t at = 0;
@@ -301,7 +351,7 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   // Seeds from the cell data if there, else the mean of each cell's vertices.
   m.seeds.resize(nc);
   if (auto seed = rd.array("CellData", "seed", false)) {
-    const std::vector<double> s = rd.values<double>(seed);
+    const std::vector<double> s = rd.values<double>(seed, 3 * uint64_t(nc));
     if (s.size() != 3 * nc) bad(path, "the seed array does not have three values per cell");
     for (size_t c = 0; c < nc; ++c) m.seeds[c] = {s[3 * c], s[3 * c + 1], s[3 * c + 2]};
   } else {
@@ -350,19 +400,19 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     i = j;
   }
   if (auto piece = rd.array("CellData", "piece", false)) {
-    const std::vector<int64_t> p = rd.values<int64_t>(piece);
+    const std::vector<int64_t> p = rd.values<int64_t>(piece, nc);
     if (p.size() != nc) bad(path, "the piece array does not have one value per cell");
     if (std::any_of(p.begin(), p.end(), [](int64_t v) { return v != 0; }))
       for (int64_t v : p) m.piece.push_back(uint32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
   }
   // A multi-region mesh's regions and their names.
   if (auto region = rd.array("CellData", "region", false)) {
-    const std::vector<int64_t> p = rd.values<int64_t>(region);
+    const std::vector<int64_t> p = rd.values<int64_t>(region, nc);
     if (p.size() != nc) bad(path, "the region array does not have one value per cell");
     for (int64_t v : p) m.region.push_back(int32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
     if (auto names = rd.field("region_names")) {
       std::string name;
-      for (int64_t ch : rd.values<int64_t>(names)) {
+      for (int64_t ch : rd.field_values<int64_t>(names)) {
         if (ch != 0) name += char(ch);
         else m.region_names.push_back(name), name.clear();
       }
@@ -370,12 +420,12 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
   }
   // froth's r and graded radii, so that the bounds are judged as in the run (quality.hpp).
   if (auto r = rd.field("r")) {
-    const std::vector<double> v = rd.values<double>(r);
+    const std::vector<double> v = rd.field_values<double>(r);
     if (v.size() == 1 && v[0] > 0) m.r = v[0];
   }
   // froth's volumes and centres, as written (a solver's formats carry them on).
   if (auto volume = rd.array("CellData", "volume", false)) {
-    std::vector<double> v = rd.values<double>(volume);
+    std::vector<double> v = rd.values<double>(volume, nc);
     if (v.size() != nc) bad(path, "the volume array does not have one value per cell");
     m.volumes = std::move(v);
   } else {  // another program's VTU: the volumes from the cells themselves, as the writers need them
@@ -383,7 +433,7 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     for (size_t c = 0; c < nc; ++c) m.volumes[c] = cell_volume(m, c);
   }
   if (auto center = rd.array("CellData", "center", false)) {
-    const std::vector<double> v = rd.values<double>(center);
+    const std::vector<double> v = rd.values<double>(center, 3 * uint64_t(nc));
     if (v.size() != 3 * nc) bad(path, "the center array does not have three values per cell");
     m.centers.resize(nc);
     for (size_t c = 0; c < nc; ++c) m.centers[c] = {v[3 * c], v[3 * c + 1], v[3 * c + 2]};
@@ -394,13 +444,54 @@ PolyMesh read_vtu(const std::filesystem::path& path) {
     if (in >> v) m.random_seed = v;
   }
   if (auto radius = rd.array("CellData", "radius", false); radius && m.r > 0) {
-    std::vector<double> h = rd.values<double>(radius);
+    std::vector<double> h = rd.values<double>(radius, nc);
     if (h.size() != nc) bad(path, "the radius array does not have one value per cell");
     if (std::any_of(h.begin(), h.end(), [&](double v) { return v < m.r; })) m.radii = std::move(h);
   }
+  // --convex's parents, and the quality stage's measures, so that a converted mesh keeps them.
+  if (auto parent = rd.array("CellData", "parent", false)) {
+    const std::vector<int64_t> p = rd.values<int64_t>(parent, nc);
+    if (p.size() != nc) bad(path, "the parent array does not have one value per cell");
+    for (int64_t v : p) m.parent.push_back(uint32_t(std::clamp<int64_t>(v, 0, int64_t(nc) - 1)));
+  }
+  if (std::all_of(std::begin(kQualityFields), std::end(kQualityFields),
+                  [&](const auto& field) { return bool(rd.array("CellData", field.first, false)); })) {
+    m.quality.resize(nc);
+    for (const auto& [name, member] : kQualityFields) {
+      const std::vector<double> v = rd.values<double>(rd.array("CellData", name), nc);
+      if (v.size() != nc) bad(path, fmt::format("the {} array does not have one value per cell", name));
+      for (size_t c = 0; c < nc; ++c) m.quality[c].*member = v[c];
+    }
+    std::vector<int32_t> pts;
+    for (size_t c = 0; c < nc; ++c) {
+      cell_points(m, c, pts);
+      m.quality[c].faces = uint32_t(m.cell_face_begin[c + 1] - m.cell_face_begin[c]);
+      m.quality[c].vertices = uint32_t(pts.size());
+    }
+  }
+  if (recorded) {
+    recorded->r = m.r;
+    recorded->seed = m.random_seed.value_or(0);
+    if (auto weld = rd.field("weld")) {
+      const std::vector<double> v = rd.field_values<double>(weld);
+      if (v.size() == 1 && v[0] >= 0) recorded->weld = v[0];
+    }
+    if (auto grade = rd.field("grade")) {
+      const std::vector<double> on = rd.field_values<double>(grade);
+      recorded->grade = on.size() == 1 && on[0] != 0;
+      const auto one = [&](const char* name, double fallback) {
+        const pugi::xml_node a = rd.field(name);
+        const std::vector<double> v = a ? rd.field_values<double>(a) : std::vector<double>{};
+        return v.size() == 1 ? v[0] : fallback;
+      };
+      recorded->sizing.min_r = one("min_r", m.r);
+      recorded->sizing.graded = recorded->sizing.min_r < m.r;
+      recorded->grading = one("max_grading", recorded->grading);
+    }
+  }
   m.kinds.assign(nc, CellKind::Interior);
   if (auto kind = rd.array("CellData", "kind", false)) {
-    const std::vector<int64_t> k = rd.values<int64_t>(kind);
+    const std::vector<int64_t> k = rd.values<int64_t>(kind, nc);
     if (k.size() != nc) bad(path, "the kind array does not have one value per cell");
     for (size_t c = 0; c < nc; ++c) m.kinds[c] = CellKind(std::clamp<int64_t>(k[c], 0, kCellKinds - 1));
   } else {

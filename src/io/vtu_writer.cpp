@@ -14,15 +14,10 @@
 #include "common/cell_points.hpp"
 #include "froth/io.hpp"
 #include "io/atomic_file.hpp"
+#include "io/quality_fields.hpp"
 
 namespace froth {
 namespace {
-
-// The per-cell quality arrays (cell data), when the quality stage ran.
-constexpr std::pair<const char*, double CellQuality::*> kQualityFields[] = {
-    {"aspect", &CellQuality::aspect},           {"outradius", &CellQuality::outradius},
-    {"inradius", &CellQuality::inradius},       {"min_dihedral", &CellQuality::min_dihedral},
-    {"max_dihedral", &CellQuality::max_dihedral}, {"min_edge", &CellQuality::min_edge}};
 
 constexpr uint8_t kVtkPolyhedron = 42;
 

@@ -30,10 +30,25 @@ namespace froth {
 
 namespace {
 
-// A stage's progress as the samplers and the tessellation report it (a fraction done), or none.
+// MeshOptions::interrupted asked, and the run stopped if it says so.
+void stop_if_interrupted(const MeshOptions& opt) {
+  if (opt.interrupted && opt.interrupted()) fail(ErrorKind::Interrupted, "interrupted");
+}
+
+// A stage begins: told to the caller, who may stop the run there.
+void stage_starts(const MeshOptions& opt, const char* stage) {
+  if (opt.progress) opt.progress(stage, 0);
+  stop_if_interrupted(opt);
+}
+
+// A stage's progress as the samplers and the tessellation report it (a fraction done), or none;
+// the run may be stopped there too (the tessellation carries the error out of its threads).
 std::function<void(double)> progress_of(const MeshOptions& opt, const char* stage) {
-  if (!opt.progress) return {};
-  return [&opt, stage](double fraction) { opt.progress(stage, fraction); };
+  if (!opt.progress && !opt.interrupted) return {};
+  return [&opt, stage](double fraction) {
+    if (opt.progress) opt.progress(stage, fraction);
+    stop_if_interrupted(opt);
+  };
 }
 
 // Hands memory the allocator holds free back to the system (glibc keeps large freed work lists
@@ -89,7 +104,7 @@ size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
 // With grading, up to 2r: walls below 2r shrink h (sampling/sizing.hpp).
 FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   if (domain.surface.triangles.empty()) return {};
-  if (opt.progress) opt.progress("feature size", 0);
+  stage_starts(opt, "feature size");
   FeatureSize fs = measure_feature_size(domain, opt.grade ? 2 * opt.r : opt.r);
   run.feature_size = fs.report;
   for (auto* m : {&run.feature_size.thickness, &run.feature_size.gap}) m->where = m->where + domain.origin;
@@ -222,7 +237,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
     if (!opt.convex) mesh.face_interface_facet.clear();  // (--convex cuts by interface planes too)
     return welded;
   }
-  if (opt.progress) opt.progress("welding", 0);
+  stage_starts(opt, "welding");
   // The paper's bounds speak of the mesh before welding. Welding changes few cells: their
   // metrics are taken before it, and the other cells' are the same before and after.
   auto measure_before = [&](const std::vector<size_t>& cells) {
@@ -268,7 +283,7 @@ void measure_regions(const RegionSet& set, const PolyMesh& mesh, RunReport& run)
 
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).
 void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
-  if (opt.progress) opt.progress("validation", 0);
+  stage_starts(opt, "validation");
   mesh.volumes.resize(mesh.cell_count());
 #pragma omp parallel for schedule(static)
   for (size_t c = 0; c < mesh.cell_count(); ++c) mesh.volumes[c] = cell_volume(mesh, c);
@@ -288,7 +303,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
                                           check.first_problem));
 
   if (opt.quality) {
-    if (opt.progress) opt.progress("quality", 0);
+    stage_starts(opt, "quality");
     run.quality = std::make_shared<const QualityReport>(assess_quality(mesh, &mesh.quality));
     if (run.welding) {
       // Bounds before welding: the counts after, with the welded cells' verdicts swapped back;
@@ -384,9 +399,7 @@ PolyMesh generate_mesh(const Domain& domain, const MeshOptions& given, RunReport
   const MeshOptions opt = resolve_options(domain, given);
   start_run(domain, opt, run);
   const auto going = [&](const char* stage) { return progress_of(opt, stage); };
-  auto progress = [&](const char* stage) {
-    if (opt.progress) opt.progress(stage, 0);
-  };
+  auto progress = [&](const char* stage) { stage_starts(opt, stage); };
   Stopwatch total, watch;
   const FeatureSize fs = measure_features(domain, opt, run, watch);
   const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
@@ -441,7 +454,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Com
   part.ranks = comm.size();
   part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
 
-  if (opt.progress) opt.progress("sampling", 0);
+  stage_starts(opt, "sampling");
   CellWindow w;
   if (sizing.is_uniform()) {
     SamplingPartition sp{part.slab, &comm};
@@ -471,7 +484,7 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Com
 
   // This rank's cells and the ring of ghost cells around them, welded together so that every
   // short edge at an owned vertex is seen; then the ghost cells are dropped.
-  if (opt.progress) opt.progress("cells", 0);
+  stage_starts(opt, "cells");
   TessellationTimes tt;
   PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt),
                                      progress_of(opt, "cells"));

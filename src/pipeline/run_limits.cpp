@@ -23,19 +23,6 @@ namespace {
 // up, with the quality stage), and per background cube (the seed index and the sampler's lists).
 constexpr double kBytesPerCell = 1024, kBytesPerCube = 8;
 
-// MemAvailable from /proc/meminfo, else the physical memory; 0 if neither is known.
-double available_memory() {
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  while (in >> key >> kib) {
-    if (key == "MemAvailable:") return kib * 1024;
-    in.ignore(1 << 20, '\n');
-  }
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? double(pages) * double(page) : 0;
-}
-
 constexpr double kMaxBackgroundCubes = 2e9;  // the sampler indexes base cubes with 32 bits
 
 double background_cubes(const Domain& domain, double r) {

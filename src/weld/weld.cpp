@@ -242,7 +242,13 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         if (refused[u] != refused[v]) refused[u] = refused[v] = 1, spread = true;
     }
   }
-  for (size_t v = 0; v < refused.size(); ++v) st.clusters_refused += refused[v] && uf.find(int32_t(v)) == int32_t(v);
+  {  // refused vertices stay apart in uf: their clusters are counted by their own short edges
+    UnionFind refused_clusters(m.points.size());
+    for (auto [u, v] : short_edges)
+      if (refused[u] && refused[v]) refused_clusters.unite(u, v);
+    for (size_t v = 0; v < refused.size(); ++v)
+      st.clusters_refused += refused[v] && refused_clusters.find(int32_t(v)) == int32_t(v);
+  }
   find_clusters();
 
   // A vertex stays (with a new id) unless welding merged it into another, its cluster's root.

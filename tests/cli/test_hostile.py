@@ -150,6 +150,109 @@ for name, patch in (("block count past the file", struct.pack("<Q", 1 << 40)),
     open(os.path.join(tmp, "bad.vtu"), "wb").write(bytes(bad))
     row(f"VTU with a {name}", froth("quality", "bad.vtu"), 3)
 
+
+# A real zlib bomb: honest block sizes that inflate to 64 MB for 4 points. Refused from the sizes
+# the counts allow (96 bytes), before inflating: at once and in little memory.
+import base64  # noqa: E402
+import zlib  # noqa: E402
+
+deflate = zlib.compressobj(9)
+packed = b"".join(deflate.compress(bytes(1 << 20)) for _ in range(64)) + deflate.flush()
+header = struct.pack("<QQQQ", 1, 64 << 20, 64 << 20, len(packed))
+open(os.path.join(tmp, "bomb.vtu"), "w").write(
+    '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" '
+    'header_type="UInt64" compressor="vtkZLibDataCompressor">\n<UnstructuredGrid><Piece NumberOfPoints="4" '
+    'NumberOfCells="1"><Points><DataArray type="Float64" NumberOfComponents="3" format="binary">'
+    + base64.b64encode(header).decode() + base64.b64encode(packed).decode()
+    + "</DataArray></Points></Piece></UnstructuredGrid></VTKFile>\n")
+t0 = time.time()
+p = subprocess.run(["/usr/bin/time", "-f", "%M", FROTH, "quality", "bomb.vtu"], capture_output=True, text=True, cwd=tmp)
+row("VTU whose blocks inflate to 64 MB for 4 points", p, 3, "declares 67108864 bytes, but its 12 values take 96")
+peak_kib = int(p.stderr.strip().splitlines()[-1])
+if peak_kib > 60000:
+    failures.append(f"zlib bomb: {peak_kib} KiB at the peak: inflated before it was refused")
+
+# Endless and zeroed inputs are refused from their first bytes (issue 40: /dev/zero grew past
+# 2.7 GB; 1 GB of NUL bytes took 45 s and 5.3 GB, and the message stopped at the first NUL).
+os.symlink("/dev/zero", os.path.join(tmp, "zero.stl"))
+t0 = time.time()
+row("/dev/zero as an STL", froth("mesh", "zero.stl", "-r", "0.3", "--max-memory", "0.5", timeout=60), 3,
+    "neither binary STL", absent=["zero.vtu"])
+with open(os.path.join(tmp, "zeros.off"), "wb") as f:
+    f.truncate(1 << 30)
+p = froth("mesh", "zeros.off", "-r", "0.3", timeout=60)
+row("1 GB of NUL bytes as an OFF", p, 3, "byte 1 is a NUL byte, which OFF text cannot hold")
+if "\0" in p.stderr or "\\x00" not in p.stderr:
+    failures.append("NUL bytes: the message does not show them escaped")
+if time.time() - t0 > 5:
+    failures.append(f"endless and zeroed inputs: {time.time() - t0:.1f} s to refuse")
+os.remove(os.path.join(tmp, "zeros.off"))
+with open(os.path.join(tmp, "large.off"), "wb") as f:
+    f.truncate(300 << 20)
+    f.seek(0)
+    f.write(b"OFF\n")
+row("a 300 MB file with 0.5 GB of memory", froth("mesh", "large.off", "-r", "0.3", "--max-memory", "0.5"), 2,
+    "more than a quarter of the 0.5 GB of memory")
+os.remove(os.path.join(tmp, "large.off"))
+
+# Welding that refuses its clusters says so, and why a larger w can collapse fewer edges.
+p = froth("mesh", "box:0,0,0,1,1,1", "-r", "0.1", "--weld", "0.09", "-o", "weld.vtu")
+row("--weld 0.9 r", p, 0)
+if "welding refused 1 clusters" not in p.stdout or "a larger w" not in p.stdout:
+    failures.append(f"--weld 0.9 r: the summary does not say the clusters were refused: {p.stdout}")
+
+# convert keeps every array and field of froth's VTU (the bytes come back), and refuses a mesh
+# whose cells are open or inverted instead of handing a solver a negative volume.
+row("convert a VTU to a VTU", froth("convert", "m.vtu", "-o", "back.vtu"), 0)
+if open(os.path.join(tmp, "back.vtu"), "rb").read() != mesh:
+    failures.append("convert VTU to VTU: the bytes changed (arrays or field data dropped)")
+grid = reader.GetOutput()  # the small box, read by VTK above
+ids = vtk.vtkIdList()
+grid.GetFaceStream(0, ids)
+stream = [ids.GetId(k) for k in range(ids.GetNumberOfIds())]
+faces, k = [], 1
+for _ in range(stream[0]):  # cell 0 turned inside out: every face reversed
+    n = stream[k]
+    faces.append(list(reversed(stream[k + 1:k + 1 + n])))
+    k += 1 + n
+inverted = vtk.vtkUnstructuredGrid()
+inverted.SetPoints(grid.GetPoints())
+for c in range(grid.GetNumberOfCells()):
+    grid.GetFaceStream(c, ids)
+    flat = faces if c == 0 else None
+    if flat is None:
+        st = [ids.GetId(j) for j in range(ids.GetNumberOfIds())]
+        flat, j = [], 1
+        for _ in range(st[0]):
+            flat.append(st[j + 1:j + 1 + st[j]])
+            j += 1 + st[j]
+    face_stream = vtk.vtkIdList()
+    for x in [len(flat)] + [x for f in flat for x in [len(f), *f]]:
+        face_stream.InsertNextId(x)
+    inverted.InsertNextCell(vtk.VTK_POLYHEDRON, face_stream)
+w = vtk.vtkXMLUnstructuredGridWriter()
+w.SetInputData(inverted)
+w.SetFileName(os.path.join(tmp, "inverted.vtu"))
+w.Write()
+row("convert an inverted cell", froth("convert", "inverted.vtu", "-o", "inverted.nodes"), 3,
+    "not a valid mesh, so it is not converted", absent=["inverted.nodes*"])
+
+# A symbolic link to an output stays a link (the Exodus writer replaced it with a file), and a
+# temporary a killed run left beside the output is removed by the next run to it.
+open(os.path.join(tmp, "target.exo"), "w").write("old")
+os.symlink("target.exo", os.path.join(tmp, "link.exo"))
+p = froth("convert", "m.vtu", "-o", "link.exo")
+if p.returncode == 0:
+    row("Exodus through a symbolic link", p, 0)
+    if not os.path.islink(os.path.join(tmp, "link.exo")) or os.path.getsize(os.path.join(tmp, "target.exo")) < 100:
+        failures.append("Exodus through a symbolic link: the link was replaced, or its target not written")
+dead = subprocess.Popen(["true"])
+dead.wait()
+open(os.path.join(tmp, f"fresh.vtu.tmp{dead.pid}"), "w").write("a SIGKILL'd run's half")
+row("a dead run's temporary", froth("mesh", "box:0,0,0,1,1,1", "-r", "0.3", "-o", "fresh.vtu"), 0,
+    absent=[f"fresh.vtu.tmp{dead.pid}"])
+row("render into a folder not made yet", froth("render", "m.vtu", "-o", "pictures/m.png"), 0, absent=["pictures/*.tmp*"])
+
 # Signals while writing: the temporary file is removed, the exit code is 128 + the signal.
 for sig in (signal.SIGINT, signal.SIGTERM):
     proc = subprocess.Popen([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.012", "--no-quality", "-o", "big.vtu"],
@@ -169,6 +272,22 @@ for sig in (signal.SIGINT, signal.SIGTERM):
         passed += 1
     for f in left:
         os.remove(f)
+
+# Signals while an OpenFOAM case is written: neither its files nor the folders made for them stay.
+for sig in (signal.SIGINT, signal.SIGTERM):
+    proc = subprocess.Popen([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.012", "--no-quality", "-o",
+                             "case/constant/polyMesh"], cwd=tmp, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while time.time() < deadline and proc.poll() is None and not os.path.isdir(os.path.join(tmp, "case")):
+        time.sleep(0.002)
+    proc.send_signal(sig)
+    code = proc.wait()
+    if os.path.exists(os.path.join(tmp, "case")):
+        failures.append(f"{sig.name} while writing an OpenFOAM case: exit {code}, left "
+                        f"{[d for d, _, _ in os.walk(os.path.join(tmp, 'case'))]}")
+        shutil.rmtree(os.path.join(tmp, "case"))
+    else:
+        passed += 1
 
 shutil.rmtree(tmp)
 for f in failures:
