@@ -14,7 +14,7 @@ STAGES = ["common", "features", "input", "sampling", "voronoi", "clip", "assembl
           "quality", "pipeline", "io", "ensemble"]
 # include/froth/X.hpp -> the stage whose code implements it. The data model (the domain, the
 # mesh, geometry, errors, the communicator) is common to every stage.
-PUBLIC_OWNER = {"error": "common", "geometry": "common", "mesh": "common", "communicator": "common",
+PUBLIC_OWNER = {"error": "common", "geometry": "common", "mesh": "common", "buffer": "common", "communicator": "common",
                 "domain": "common", "weld": "weld", "quality": "quality", "validate": "pipeline",
                 "partition": "pipeline", "io": "io", "ensemble": "ensemble", "froth": "ensemble"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

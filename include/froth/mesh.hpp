@@ -10,34 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "froth/buffer.hpp"
 #include "froth/domain.hpp"
 #include "froth/geometry.hpp"
 
 namespace froth {
-
-// std::vector's allocator, except that resize() leaves new elements of trivial types
-// uninitialised: the mesh's large arrays are sized first and filled in parallel, and pages that
-// are not yet written then cost no memory.
-template <class T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <class U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <class U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) {}
-  template <class U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <class U, class... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-template <class T>
-using Buffer = std::vector<T, UninitializedAllocator<T>>;
 
 // InterfaceFace and InterfaceEdge: a multi-region solid's cells of seeds on an interface facet, or on
 // an interface curve or corner (src/sampling/protect_interfaces.hpp).
@@ -54,6 +31,8 @@ inline int32_t generator_plane(int32_t g) { return -g - 1; }
 constexpr int32_t kOtherPiece = INT32_MAX;
 constexpr int32_t kOtherPieceProtected = INT32_MAX - 1;
 inline bool is_other_piece_generator(int32_t g) { return g >= kOtherPieceProtected; }
+
+struct FaceScratch;
 
 // Quality metrics of one cell (see froth/quality.hpp).
 struct CellQuality {
@@ -108,11 +87,9 @@ struct PolyMesh {
   // region_names. Empty: one region. Faces between cells of two regions are interface faces.
   std::vector<int32_t> region;
   std::vector<std::string> region_names;
-  // While cells are assembled only: each face's region.
-  std::vector<int32_t> face_region;
-  // Until welding (which keeps interface vertices on their facets, as border ones on theirs):
-  // each face's interface facet (RegionSet's facet numbering), -1 for other faces; empty: none.
-  std::vector<int32_t> face_interface_facet;
+  // The stages' per-face data while the mesh is built (src/common/face_scratch.hpp); null in a
+  // finished mesh.
+  std::shared_ptr<FaceScratch> scratch;
 
   size_t cell_count() const { return seeds.size(); }
   uint32_t piece_of(size_t c) const { return piece.empty() ? 0 : piece[c]; }

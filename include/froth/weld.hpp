@@ -37,7 +37,7 @@ inline double default_weld_tolerance(double r, double domain_diagonal, bool unwe
 // Welds the mesh in place with tolerance w > 0 (r scales the non-planarity figure). Vertices on
 // the domain's boundary keep their position when merged with others (the one on the most
 // domain planes wins), so border faces stay on their planes wherever they can; other clusters
-// move to their centroid. A multi-region mesh's interface facets (mesh.face_interface_facet)
+// move to their centroid. A multi-region mesh's interface facets (FaceScratch::face_interface_facet, src/common/face_scratch.hpp)
 // bind their vertices as border planes do: an interface vertex stays on its facets, and a
 // cluster holding one goes to it, so no cell reaches past the interface into another region.
 // `before_change`, if given, is told the cells welding will change (sorted), before any changes.

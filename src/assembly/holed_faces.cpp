@@ -1,3 +1,4 @@
+#include "common/face_scratch.hpp"
 #include "assembly/holed_faces.hpp"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -128,7 +129,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
     if (next < holed.size() && holed[next].face == f) {
       for (const auto& t : tris[next]) {
         generator.push_back(m.face_generator[f]);
-        if (!m.face_region.empty()) region.push_back(m.face_region[f]);
+        if (!scratch_of(m).face_region.empty()) region.push_back(scratch_of(m).face_region[f]);
         vertex_begin.push_back(int64_t(vertices.size()));
         vertices.insert(vertices.end(), t.begin(), t.end());
       }
@@ -136,7 +137,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
       continue;
     }
     generator.push_back(m.face_generator[f]);
-    if (!m.face_region.empty()) region.push_back(m.face_region[f]);
+    if (!scratch_of(m).face_region.empty()) region.push_back(scratch_of(m).face_region[f]);
     vertex_begin.push_back(int64_t(vertices.size()));
     vertices.insert(vertices.end(), m.face_vertices.begin() + m.face_vertex_begin[f],
                     m.face_vertices.begin() + m.face_vertex_begin[f + 1]);
@@ -145,7 +146,7 @@ std::string triangulate_holed_faces(PolyMesh& m, const std::vector<HoledFace>& h
   while (cell <= m.cell_count()) cell_begin[cell++] = int64_t(generator.size());
   vertex_begin.push_back(int64_t(vertices.size()));
   m.face_generator = std::move(generator);
-  if (!m.face_region.empty()) m.face_region = std::move(region);
+  if (!scratch_of(m).face_region.empty()) scratch_of(m).face_region = std::move(region);
   m.face_vertex_begin = std::move(vertex_begin);
   m.face_vertices = std::move(vertices);
   m.cell_face_begin = std::move(cell_begin);

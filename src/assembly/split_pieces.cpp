@@ -1,3 +1,4 @@
+#include "common/face_scratch.hpp"
 #include "assembly/split_pieces.hpp"
 
 #include <algorithm>
@@ -41,7 +42,7 @@ struct Pieces {
 Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
   Pieces out;
   const int64_t f0 = m.cell_face_begin[s.cell], f1 = m.cell_face_begin[s.cell + 1];
-  auto region_of_face = [&](int64_t f) { return m.face_region.empty() ? 0 : m.face_region[size_t(f)]; };
+  auto region_of_face = [&](int64_t f) { return scratch_of(m).face_region.empty() ? 0 : scratch_of(m).face_region[size_t(f)]; };
   std::vector<RegionVertex> verts;
   for (int64_t f = f0; f < f1; ++f)
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
@@ -137,11 +138,11 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
     // Every cell's region: its faces' (one region for a cell that is not split).
     m.region.resize(m.cell_count());
     for (size_t c = 0; c < m.cell_count(); ++c)
-      m.region[c] = m.cell_face_begin[c] < m.cell_face_begin[c + 1] ? m.face_region[size_t(m.cell_face_begin[c])] : 0;
+      m.region[c] = m.cell_face_begin[c] < m.cell_face_begin[c + 1] ? scratch_of(m).face_region[size_t(m.cell_face_begin[c])] : 0;
     m.region_names = regions->names;
   }
   if (split.empty()) {
-    m.face_region.clear();
+    scratch_of(m).face_region.clear();
     return;
   }
   const size_t n = m.cell_count();
@@ -181,11 +182,11 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
   out.seeds.resize(cells), out.kinds.resize(cells), out.piece.assign(cells, 0);
   if (regions) out.region.resize(cells);
   out.face_generator.resize(m.face_count());
-  if (regions) out.face_interface_facet.assign(m.face_count(), -1);
+  if (regions) scratch_of(out).face_interface_facet.assign(m.face_count(), -1);
   out.face_vertex_begin.resize(m.face_count() + 1);
   out.face_vertices.resize(m.face_vertices.size());
   auto new_generator = [&](int32_t g, int64_t f, size_t c) {
-    const int32_t rf = m.face_region.empty() ? 0 : m.face_region[size_t(f)];
+    const int32_t rf = scratch_of(m).face_region.empty() ? 0 : scratch_of(m).face_region[size_t(f)];
     if (regions && g < 0 && regions->is_interface(generator_plane(g))) {
       // An interface face: its twin is this cell's part on the other side.
       const int32_t w = which[c];
@@ -214,7 +215,7 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
         if (!in_piece(c, f, p)) continue;
         const int32_t g = m.face_generator[f];
         if (regions && g < 0 && regions->is_interface(generator_plane(g)))
-          out.face_interface_facet[size_t(face)] = generator_plane(g);
+          scratch_of(out).face_interface_facet[size_t(face)] = generator_plane(g);
         out.face_generator[size_t(face)] = new_generator(g, f, c);
         out.face_vertex_begin[size_t(face)] = fv;
         for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)

@@ -20,10 +20,10 @@ struct SplitCell {
 // indices. The piece holding the anchor stays first (mesh.piece 0, the seed's own kind); the
 // others follow in face order, as fringe cells with piece 1, 2, ... and the same seed. Face
 // generators are renumbered to the new cells; kOtherPiece generators are kept.
-// A multi-region solid's cells (`regions` set, mesh.face_region each face's region) are split
+// A multi-region solid's cells (`regions` set, its FaceScratch::face_region each face's region) are split
 // by region too: the parts of a cell in two regions share the interface's vertices, and each
 // interface face (on a facet between two regions) becomes the twin of the same cell's part on
-// the other side. mesh.region is set and mesh.face_region cleared.
+// the other side. mesh.region is set and face_region cleared.
 void split_pieces(PolyMesh& mesh, const std::vector<SplitCell>& split, const RegionSet* regions = nullptr);
 
 }  // namespace froth

@@ -6,6 +6,7 @@
 // vertex computes the same name, so the vertex's owner, the cell of its smallest seed, gives it
 // one global id and the other cells look it up there. Ids follow the seed order, so the mesh is
 // the same for any thread count.
+#include "common/face_scratch.hpp"
 #include "assembly/tessellation.hpp"
 
 #include <omp.h>
@@ -326,7 +327,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   mesh.kinds.resize(n);
   mesh.cell_face_begin.resize(n + 1);
   mesh.face_generator.resize(chunk_face[nchunks]);
-  if (domain.regions) mesh.face_region.resize(chunk_face[nchunks]);
+  if (domain.regions) scratch_of(mesh).face_region.resize(chunk_face[nchunks]);
   mesh.face_vertex_begin.resize(chunk_face[nchunks] + 1);
   mesh.face_vertices.resize(chunk_fv[nchunks]);
   mesh.cell_face_begin[n] = chunk_face[nchunks];
@@ -393,7 +394,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         mesh.cell_face_begin[i] = face;
         for (uint32_t f = ch.face_begin[k]; f < ch.face_begin[k + 1]; ++f) {
           mesh.face_generator[face] = ch.face_gen[f];
-          if (!ch.face_region.empty()) mesh.face_region[face] = ch.face_region[f];
+          if (!ch.face_region.empty()) scratch_of(mesh).face_region[face] = ch.face_region[f];
           mesh.face_vertex_begin[face] = fv;
           const size_t size = ch.face_size[f] ? ch.face_size[f] : ch.long_faces[long_face++];
           for (size_t s = 0; s < size; ++s) mesh.face_vertices[fv++] = gid[ch.local_vertex(local_fv++)];

@@ -1,3 +1,4 @@
+#include "common/face_scratch.hpp"
 #include "convex/convex_split.hpp"
 
 #include <algorithm>
@@ -130,7 +131,7 @@ class Splitter {
     const FacePlane fit = polygon_plane(v, at);
     // A multi-region solid's interface face lies on its facet, whatever cell is across it (the
     // same seed's part in the other region, or a neighbour's): out of this cell.
-    const int32_t facet = m_.face_interface_facet.empty() ? -1 : m_.face_interface_facet[size_t(f)];
+    const int32_t facet = scratch_of(m_).face_interface_facet.empty() ? -1 : scratch_of(m_).face_interface_facet[size_t(f)];
     if (facet >= 0 && size_t(facet) < domain_planes_.size()) {
       exact = domain_planes_[size_t(facet)];
       if (dot(exact.normal, fit.normal) < 0) exact = {-1.0 * exact.normal, -exact.offset};

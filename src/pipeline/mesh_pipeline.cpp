@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "common/face_scratch.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/quality.hpp"
@@ -234,7 +235,7 @@ struct WeldedCells {
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
   if (!(*opt.weld > 0)) {
-    if (!opt.convex) mesh.face_interface_facet.clear();  // (--convex cuts by interface planes too)
+    if (!opt.convex) scratch_of(mesh).face_interface_facet.clear();  // (--convex cuts by interface planes too)
     return welded;
   }
   stage_starts(opt, "welding");
@@ -248,7 +249,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
     for (size_t i = 0; i < cells.size(); ++i) welded.before[i] = cell_verdict(mesh, cells[i]);
   };
   run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, *opt.weld, opt.r, measure_before));
-  mesh.face_interface_facet.clear();  // its one reader was welding
+  scratch_of(mesh).face_interface_facet.clear();  // its one reader was welding
   run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
   return welded;
 }
@@ -390,123 +391,60 @@ void measure_pieces(const PolyMesh& mesh, RunReport::ConvexSplit& split) {
   if (n == 0) split.piece_min_dihedral = 0;
 }
 
-}  // namespace
+// The seeds whose cells this process builds: all of them, or a partitioned run's slab (its owned
+// seeds and the ghost layers around them). Ranges index `sample.seeds`.
+struct SeedWindow {
+  Sample sample;
+  SeedRange built, owned;
+};
 
-PolyMesh generate_mesh(const Domain& domain, const MeshOptions& given, RunReport* report) {
-  RunReport local;
-  RunReport& run = report ? *report : local;
-  run.cells_requested = given.cells;
-  const MeshOptions opt = resolve_options(domain, given);
-  start_run(domain, opt, run);
-  const auto going = [&](const char* stage) { return progress_of(opt, stage); };
-  auto progress = [&](const char* stage) { stage_starts(opt, stage); };
-  Stopwatch total, watch;
-  const FeatureSize fs = measure_features(domain, opt, run, watch);
-  const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
-  progress("sampling");
-  Sample sample = sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed, nullptr, going("sampling"))
-                                      : sample_graded_poisson_disk(domain, sizing, opt.seed, going("sampling"));
-  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
-  run.sampling = sample.stats;
-  release_freed_memory();  // the sampler's freed work lists, before the cells' peak
-  check_sample(sample.seeds.size(), sample.stats.uncovered_cubes, opt.r);
-
-  progress("cells");
-  TessellationTimes tt;
-  PolyMesh mesh = build_voronoi_mesh(domain, std::move(sample), opt.r, &tt, {}, min_piece_volume(opt), going("cells"));
-  run.sampling.protection_radius_reduced =
-      set_radii(mesh, sizing, opt.r, 0, mesh.cell_count(), run.sampling.smallest_protection_radius);
-  mesh.random_seed = opt.seed;
-  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
-  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
-  run.recut_cells = tt.recut_cells;
-  measure_star_shape(domain, mesh, opt, run, 0, mesh.cell_count());
-  watch.lap();
-
-  const WeldedCells welded = weld_stage(mesh, opt, run, watch);
-  if (opt.convex) {
-    progress("convex");
-    run.convex_split = split_nonconvex_cells(mesh, domain.regions ? domain.regions->boundary.planes : domain.planes, opt.r);
-    run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
-  }
-  finish_mesh(domain, mesh, opt, run, welded, watch);
-  if (opt.convex) measure_pieces(mesh, run.convex_split);
-  run.total_seconds = total.lap();
-  run.peak_rss_bytes = peak_rss_bytes();
-  return mesh;
-}
-
-PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Communicator& comm, RunReport* report,
-                             PartitionReport* partition) {
-  RunReport local_run;
-  RunReport& run = report ? *report : local_run;
-  run.cells_requested = given.cells;
-  const MeshOptions opt = resolve_options(domain, given);
-  PartitionReport local_part;
-  PartitionReport& part = partition ? *partition : local_part;
-  if (opt.convex)
-    fail(ErrorKind::Usage, "convex cells are not available in a partitioned run: a cut carries into cells on other ranks");
-  start_run(domain, opt, run, 1.0 / comm.size());
-  Stopwatch total, watch;
-  const FeatureSize fs = measure_features(domain, opt, run, watch);
-  const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
-  part.rank = comm.rank();
-  part.ranks = comm.size();
-  part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
-
+SeedWindow sample_seeds(const Domain& domain, const SizingField& sizing, const MeshOptions& opt, RunReport& run,
+                        Communicator* comm, PartitionReport& part) {
   stage_starts(opt, "sampling");
+  const auto sample_all = [&] {
+    return sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed, nullptr, progress_of(opt, "sampling"))
+                               : sample_graded_poisson_disk(domain, sizing, opt.seed, progress_of(opt, "sampling"));
+  };
+  if (!comm) {
+    SeedWindow w{sample_all(), {}, {}};
+    run.sampling = w.sample.stats;
+    w.built = w.owned = {0, int32_t(w.sample.seeds.size())};
+    return w;
+  }
   CellWindow w;
   if (sizing.is_uniform()) {
-    SamplingPartition sp{part.slab, &comm};
+    SamplingPartition sp{part.slab, comm};
     Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp, progress_of(opt, "sampling"));
     part.exchanges = sp.exchanges;
-    w = exchange_cell_halo(sampled, part.slab, comm);
+    w = exchange_cell_halo(sampled, part.slab, *comm);
     run.sampling = w.sample.stats;
-    run.sampling.darts = comm.sum(run.sampling.darts);
-    run.sampling.uncovered_cubes = comm.sum(run.sampling.uncovered_cubes);
+    run.sampling.darts = comm->sum(run.sampling.darts);
+    run.sampling.uncovered_cubes = comm->sum(run.sampling.uncovered_cubes);
   } else {
     // The graded sampler has no slab schedule yet: every rank draws the whole sample (the
     // serial one, a pure function of its inputs) and keeps its slab's window of it, so the
     // cells still equal the serial mesh's; only the cells' work is divided.
-    const Sample sampled = sample_graded_poisson_disk(domain, sizing, opt.seed, progress_of(opt, "sampling"));
-    w = exchange_cell_halo(sampled, part.slab, comm);
+    const Sample sampled = sample_all();
+    w = exchange_cell_halo(sampled, part.slab, *comm);
     run.sampling = sampled.stats;
   }
-  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
   // Counts over all ranks (protection seeds are computed whole on every rank).
   run.sampling.seeds = w.total_seeds;
-  release_freed_memory();
-  check_sample(run.sampling.seeds, run.sampling.uncovered_cubes, opt.r);
   part.first_seed = w.first_global + w.owned.begin;
   part.owned_seeds = size_t(w.owned.end - w.owned.begin);
   part.ghost_seeds = w.sample.seeds.size() - part.owned_seeds;
   part.ghost_cells = size_t(w.built.end - w.built.begin) - part.owned_seeds;
+  return {std::move(w.sample), w.built, w.owned};
+}
 
-  // This rank's cells and the ring of ghost cells around them, welded together so that every
-  // short edge at an owned vertex is seen; then the ghost cells are dropped.
-  stage_starts(opt, "cells");
-  TessellationTimes tt;
-  PolyMesh ring = build_voronoi_mesh(domain, std::move(w.sample), opt.r, &tt, w.built, min_piece_volume(opt),
-                                     progress_of(opt, "cells"));
-  ring.random_seed = opt.seed;
-  // The owned seeds' cells, pieces included (a seed's pieces follow it).
-  const size_t own_begin = first_cell_of_seed(ring, size_t(w.owned.begin - w.built.begin)),
-               own_end = first_cell_of_seed(ring, size_t(w.owned.end - w.built.begin));
-  double smallest = 1;
-  run.sampling.protection_radius_reduced = comm.sum(set_radii(ring, sizing, opt.r, own_begin, own_end, smallest));
-  run.sampling.smallest_protection_radius = -comm.max(-smallest);
-  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
-  run.recut_cells = comm.sum(tt.recut_cells);  // with each rank's ghost ring, as welding counts
-  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
-  measure_star_shape(domain, ring, opt, run, own_begin, own_end);
-  watch.lap();
-  WeldedCells welded_ring = weld_stage(ring, opt, run, watch);
-  // Every cell at a point within (kGhostCellLayers side - r) of the slab is built (Lemma 1: a
-  // point's cells have seeds within r of it), so every edge there is seen. Owned vertices lie
-  // within r of the slab; a weld cluster moves its vertices to one point, so its diameter is at
-  // most twice the largest displacement, and a cluster at an owned vertex stays in that zone
-  // while it is below the slack. Every rank decides on the largest displacement of all, so they
-  // stop together.
+// A partitioned run's cells welded with their ghost ring: every cell at a point within
+// (kGhostCellLayers side - r) of the slab is built (Lemma 1: a point's cells have seeds within r
+// of it), so every edge there is seen. Owned vertices lie within r of the slab; a weld cluster
+// moves its vertices to one point, so its diameter is at most twice the largest displacement,
+// and a cluster at an owned vertex stays in that zone while it is below the slack. Every rank
+// decides on the largest displacement of all, so they stop together. Then the ghosts go.
+PolyMesh owned_cells(PolyMesh& ring, size_t own_begin, size_t own_end, const MeshOptions& opt, const RunReport& run,
+                     Communicator& comm, PartitionReport& part, WeldedCells& welded) {
   const double slack = kGhostCellLayers * opt.r / std::sqrt(3.0) - 2 * opt.r;
   const double moved = comm.max(run.welding ? run.welding->max_displacement : 0);
   if (2 * moved >= slack)
@@ -515,17 +453,86 @@ PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Com
                                        moved, moved / opt.r, slack / 2 / opt.r));
   PolyMesh mesh = extract_cells(ring, own_begin, own_end, part.partition_faces);
   ring = PolyMesh();
-  WeldedCells welded;
-  for (size_t k = 0; k < welded_ring.cells.size(); ++k)
-    if (welded_ring.cells[k] >= own_begin && welded_ring.cells[k] < own_end) {
-      welded.cells.push_back(welded_ring.cells[k] - own_begin);
-      welded.before.push_back(welded_ring.before[k]);
+  WeldedCells owned;
+  for (size_t k = 0; k < welded.cells.size(); ++k)
+    if (welded.cells[k] >= own_begin && welded.cells[k] < own_end) {
+      owned.cells.push_back(welded.cells[k] - own_begin);
+      owned.before.push_back(welded.before[k]);
     }
+  welded = std::move(owned);
+  return mesh;
+}
+
+// The one recipe of a mesh, whole (comm null) or a partitioned run's piece.
+PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport& run, Communicator* comm,
+                      PartitionReport& part) {
+  run.cells_requested = given.cells;
+  const MeshOptions opt = resolve_options(domain, given);
+  if (comm && opt.convex)
+    fail(ErrorKind::Usage, "convex cells are not available in a partitioned run: a cut carries into cells on other ranks");
+  start_run(domain, opt, run, comm ? 1.0 / comm->size() : 1.0);
+  Stopwatch total, watch;
+  const FeatureSize fs = measure_features(domain, opt, run, watch);
+  const SizingField sizing = sizing_field(domain, fs, opt, run, watch);
+  if (comm) {
+    part.rank = comm->rank();
+    part.ranks = comm->size();
+    part.slab = slab_of(part.rank, part.ranks, BackgroundGrid::covering(domain.bounds, opt.r).nz);
+  }
+  SeedWindow seeds = sample_seeds(domain, sizing, opt, run, comm, part);
+  run.stages.push_back({"sampling", watch.lap(), peak_rss_bytes()});
+  release_freed_memory();  // the sampler's freed work lists, before the cells' peak
+  check_sample(run.sampling.seeds, run.sampling.uncovered_cubes, opt.r);
+
+  // A partitioned run builds its cells and the ring of ghost cells around them, welded together
+  // so that every short edge at an owned vertex is seen; the ghost cells are dropped after.
+  stage_starts(opt, "cells");
+  TessellationTimes tt;
+  PolyMesh mesh = build_voronoi_mesh(domain, std::move(seeds.sample), opt.r, &tt, seeds.built, min_piece_volume(opt),
+                                     progress_of(opt, "cells"));
+  mesh.random_seed = opt.seed;
+  // The owned seeds' cells, pieces included (a seed's pieces follow it).
+  const size_t own_begin = first_cell_of_seed(mesh, size_t(seeds.owned.begin - seeds.built.begin)),
+               own_end = first_cell_of_seed(mesh, size_t(seeds.owned.end - seeds.built.begin));
+  SoloCommunicator solo;
+  Communicator& all = comm ? *comm : solo;
+  double smallest = 1;
+  run.sampling.protection_radius_reduced = all.sum(set_radii(mesh, sizing, opt.r, own_begin, own_end, smallest));
+  run.sampling.smallest_protection_radius = -all.max(-smallest);
+  run.stages.push_back({"cells", tt.cells, tt.cells_peak_rss});
+  run.stages.push_back({"assembly", tt.assembly, peak_rss_bytes()});
+  run.recut_cells = all.sum(tt.recut_cells);  // with each rank's ghost ring, as welding counts
+  measure_star_shape(domain, mesh, opt, run, own_begin, own_end);
+  watch.lap();
+
+  WeldedCells welded = weld_stage(mesh, opt, run, watch);
+  if (comm) mesh = owned_cells(mesh, own_begin, own_end, opt, run, *comm, part, welded);
+  if (opt.convex) {
+    stage_starts(opt, "convex");
+    run.convex_split = split_nonconvex_cells(mesh, domain.regions ? domain.regions->boundary.planes : domain.planes, opt.r);
+    run.stages.push_back({"convex", watch.lap(), peak_rss_bytes()});
+  }
+  mesh.scratch.reset();
   finish_mesh(domain, mesh, opt, run, welded, watch);
   if (opt.convex) measure_pieces(mesh, run.convex_split);
   run.total_seconds = total.lap();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;
+}
+
+}  // namespace
+
+PolyMesh generate_mesh(const Domain& domain, const MeshOptions& given, RunReport* report) {
+  RunReport local;
+  PartitionReport unused;
+  return run_pipeline(domain, given, report ? *report : local, nullptr, unused);
+}
+
+PolyMesh generate_mesh_piece(const Domain& domain, const MeshOptions& given, Communicator& comm, RunReport* report,
+                             PartitionReport* partition) {
+  RunReport local_run;
+  PartitionReport local_part;
+  return run_pipeline(domain, given, report ? *report : local_run, &comm, partition ? *partition : local_part);
 }
 
 }  // namespace froth

@@ -1,4 +1,5 @@
 // Welding: union-find over short edges, one decision for the whole mesh.
+#include "common/face_scratch.hpp"
 #include "froth/weld.hpp"
 
 #include <algorithm>
@@ -110,8 +111,8 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   for (int64_t f : member_faces) {
     const int32_t g = m.face_generator[f];
     const int32_t plane = is_border_generator(g)             ? generator_plane(g)
-                          : m.face_interface_facet.empty() ? -1
-                                                           : m.face_interface_facet[size_t(f)];
+                          : scratch_of(m).face_interface_facet.empty() ? -1
+                                                           : scratch_of(m).face_interface_facet[size_t(f)];
     if (plane < 0) continue;
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) {
       auto it = planes.find(m.face_vertices[k]);
@@ -309,7 +310,7 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       while (cell < nc && m.cell_face_begin[cell] == f) m.cell_face_begin[cell++] = face;
       const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
       const int32_t generator = m.face_generator[f];
-      const int32_t facet = m.face_interface_facet.empty() ? -1 : m.face_interface_facet[size_t(f)];
+      const int32_t facet = scratch_of(m).face_interface_facet.empty() ? -1 : scratch_of(m).face_interface_facet[size_t(f)];
       if (i < member_faces.size() && member_faces[i] == f) {
         const size_t mb = member_begin[i], me = member_begin[i + 1];
         ++i;
@@ -322,13 +323,13 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
         m.face_vertex_begin[face] = entry;
         entry += e - b;
       }
-      if (!m.face_interface_facet.empty()) m.face_interface_facet[size_t(face)] = facet;
+      if (!scratch_of(m).face_interface_facet.empty()) scratch_of(m).face_interface_facet[size_t(face)] = facet;
       m.face_generator[face++] = generator;
     }
     while (cell <= nc) m.cell_face_begin[cell++] = face;
     m.face_vertex_begin[face] = entry;
     m.face_generator.resize(size_t(face));
-    if (!m.face_interface_facet.empty()) m.face_interface_facet.resize(size_t(face));
+    if (!scratch_of(m).face_interface_facet.empty()) scratch_of(m).face_interface_facet.resize(size_t(face));
     m.face_vertex_begin.resize(size_t(face) + 1);
     m.face_vertices.resize(size_t(entry));
   }

@@ -1,0 +1,92 @@
+#!/usr/bin/python3
+"""docs/performance.md's one table, measured in one run at one commit: `froth mesh` end to end
+(reading to writing) on a box, on every valid test model at about 1e5 cells uniform and graded,
+on the multi-region heater, with --convex and with each writer, each against a box of about the
+same cells in the same run; and the whole box at 7.5e5 cells against voro++ computing the cells
+alone for the same number of seeds (froth_bench, 1 thread for voro++).
+
+    bench/performance_table.py BUILD_DIR MODELS_DIR [--quick]
+
+Prints the commit, the date and a Markdown table. `--quick`: three models, no voro++ row."""
+import argparse
+import json
+import os
+import re
+import subprocess
+import tempfile
+import time
+
+ap = argparse.ArgumentParser()
+ap.add_argument("build")
+ap.add_argument("models")
+ap.add_argument("--quick", action="store_true")
+a = ap.parse_args()
+FROTH = os.path.join(a.build, "froth")
+tmp = tempfile.mkdtemp()
+MODELS = ["7_8ths_cube.stl", "hollow_sphere.off", "torus.STL", "plate_holes.STL", "shape_ibeam.stl", "round.stl",
+          "two_objects_mixed_case_names.stl", "step.off", "1002_tray_bottom.STL", "ADIS16480.STL", "hinge.stl"]
+if a.quick:
+    MODELS = ["hinge.stl", "ADIS16480.STL", "round.stl"]
+HEATER = [os.path.join(a.models, "multi_region_heater", f + ".stl")
+          for f in ("bottomAir", "heater", "leftSolid", "rightSolid", "topAir")]
+
+
+def mesh(inputs, *flags, output="m.vtu"):
+    """froth mesh with a report: cells, total seconds (reading and writing included), peak MiB,
+    stage seconds; and the wall time the user waits."""
+    rep = os.path.join(tmp, "m.json")
+    t0 = time.time()
+    subprocess.run([FROTH, "mesh", *inputs, *flags, "-q", "-o", os.path.join(tmp, output), "--report", rep],
+                   check=True)
+    wall = time.time() - t0
+    j = json.load(open(rep))
+    return {"cells": j["mesh"]["cells"], "s": j["seconds_total"], "wall": wall,
+            "MiB": j["peak_memory_bytes"] / 2**20, "stages": j["seconds"]}
+
+
+rows = []
+
+
+def row(case, command, m, box, note=""):
+    us = 1e6 * m["s"] / m["cells"]
+    rows.append((case, command, f"{m['cells']:,}", f"{m['s']:.2f}", f"{us:.1f}",
+                 f"{us / (1e6 * box['s'] / box['cells']):.2f}" if box else "1", f"{m['MiB']:.0f}", note))
+
+
+box = mesh(["box:0,0,0,1,1,1"], "--cells", "1e5", "--seed", "1")
+row("box", "--cells 1e5", box, None)
+for name in MODELS:
+    path = os.path.join(a.models, name)
+    uniform = mesh([path], "--cells", "1e5", "--seed", "1")
+    row(name, "--cells 1e5", uniform, box)
+    graded = mesh([path], "--cells", "1e5", "--seed", "1", "--grade")
+    row(name, "--cells 1e5 --grade", graded, box,
+        f"feature size {graded['stages'].get('feature size', 0):.2f} s, sizing {graded['stages'].get('sizing', 0):.2f} s, "
+        f"sampling {graded['stages'].get('sampling', 0):.2f} s")
+row("heater, 5 regions", "--cells 1e5", mesh(HEATER, "--cells", "1e5", "--seed", "1"), box)
+convex = mesh([os.path.join(a.models, "hinge.stl")], "-r", "0.6", "--seed", "1", "--convex")
+row("hinge.stl --convex", "-r 0.6 --convex", convex, box, f"convex stage {convex['stages'].get('convex', 0):.2f} s")
+vtu_write = box["stages"]["writing"]
+for fmt, out in (("Exodus II", "m.exo"), ("OpenFOAM", "case/constant/polyMesh"), ("facet graph", "m.npz"),
+                 ("peridynamic nodes", "m.nodes")):
+    m = mesh(["box:0,0,0,1,1,1"], "--cells", "1e5", "--seed", "1", output=out)
+    row(f"box to {fmt}", f"-o {out}", m, box, f"writing {m['stages']['writing']:.2f} s (VTU {vtu_write:.2f} s)")
+
+voro = ""
+if not a.quick:
+    big = mesh(["box:0,0,0,1,1,1"], "-r", "0.01", "--seed", "2", "--threads", "2")
+    bench = subprocess.run([os.path.join(a.build, "bench", "froth_bench"), "--repeat", "1", str(big["cells"])],
+                           check=True, capture_output=True, text=True).stdout
+    line = [l for l in bench.splitlines() if re.match(r"\s*\d+\s+0\.\d+\s+\d+\s*\|", l)][0]
+    voro_s = float(line.split("|")[-1].split()[0])
+    row("box, 2 threads", "-r 0.01 --seed 2", big, box,
+        f"wall {big['wall']:.2f} s against voro++'s cells alone {voro_s:.2f} s (1 thread): ratio "
+        f"{big['wall'] / voro_s:.2f}")
+
+commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "log", "-1", "--format=%h %s"],
+                        capture_output=True, text=True).stdout.strip()
+print(f"Measured {time.strftime('%Y-%m-%d')} at commit {commit}, {os.cpu_count()} cores.\n")
+print("| case | options | cells | total s | us per cell | per cell / box | peak MiB | note |")
+print("|---|---|---|---|---|---|---|---|")
+for r in rows:
+    print("| " + " | ".join(r) + " |")
