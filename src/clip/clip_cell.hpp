@@ -12,9 +12,11 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "clip/face_loops.hpp"
 #include "common/triangle_grid.hpp"
 #include "froth/domain.hpp"
 #include "voronoi/convex_cell.hpp"
@@ -91,6 +93,14 @@ class CellClipper {
 
  private:
   struct Scratch;
+  struct Call;
+  // clip()'s steps after the quick cases; each returns a result to stop with, or nothing to go on.
+  std::optional<Result> clip_triangles(const Call& c);
+  std::optional<Result> find_inside_vertices(const Call& c);
+  std::optional<Result> cut_faces(const Call& c);
+  std::optional<Result> add_border_faces(const Call& c);
+  Result close_cell(const Call& c);
+  void drop_seam_points(Loops& loops) const;
   const Domain& domain_;
   const SurfaceGenerators& gens_;
   const TriangleGrid& triangles_;
