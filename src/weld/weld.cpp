@@ -42,14 +42,84 @@ double cell_volume6(const PolyMesh& m, size_t c, Id&& id, At&& at, std::vector<i
   return v6;
 }
 
-// One pass: merges along the edges shorter than w as they are. `edges`: the short edges if known (later passes), else empty and found by a scan of all
-// faces; on return, the edges shorter than w among the faces this pass changed.
-WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32_t, int32_t>>& edges,
-                    const std::function<void(const std::vector<size_t>&)>& before_change) {
+// One pass over the mesh as it is, in steps that share the clusters being decided.
+class WeldPass {
+ public:
+  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r) { st.tolerance = w; }
+  WeldStats run(std::vector<std::pair<int32_t, int32_t>>& edges,
+                const std::function<void(const std::vector<size_t>&)>& before_change) {
+    if (!find_short_edges(edges)) return st;
+    find_member_faces();
+    // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
+    if (before_change) before_change(cells);
+    gather_planes();
+    decide_clusters();
+    move_points();
+    rewrite_faces();
+    measure_after(edges);
+    m.volumes.clear();
+    m.quality.clear();
+    return st;
+  }
+
+ private:
+  bool find_short_edges(std::vector<std::pair<int32_t, int32_t>>& edges);
+  void find_member_faces();
+  void gather_planes();
+  void decide_clusters();
+  bool refuse_pinches();
+  bool refuse_off_plane();
+  bool refuse_for_cells();
+  void find_clusters();
+  // Where a staying vertex goes: its cluster's target, or its own place if it is alone.
+  Vec3 destination(int32_t root) const {
+    const auto it = member[root] ? clusters.find(root) : clusters.end();
+    return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
+  }
+  // A vertex stays (with a new id) unless welding merged it into another, its cluster's root.
+  bool stays(size_t v) { return !member[v] || uf.find(int32_t(v)) == int32_t(v); }
+  void move_points();
+  void rewrite_faces();
+  void measure_after(std::vector<std::pair<int32_t, int32_t>>& edges);
+
+  PolyMesh& m;
+  const double w, r;
   WeldStats st;
-  st.tolerance = w;
-  // One parallel pass: the short edges (in face order, deduplicated below: each is seen from
-  // several faces), the shortest edge and the border's area.
+  std::vector<std::pair<int32_t, int32_t>> short_edges;
+  std::vector<uint8_t> refused, member;  // per point
+  std::vector<int64_t> member_faces;     // faces with a vertex on a short edge
+  std::vector<size_t> cells;             // the cells welding can change
+  // Border planes of every vertex on a short edge, and a multi-region solid's interface facets
+  // (one numbering: both are the regions' facets), which bind a vertex the same way.
+  std::map<int32_t, std::vector<int32_t>> planes;
+  UnionFind uf{0};
+  std::vector<int32_t> cyc, sorted, root;
+  // Per cluster root, the vertex on the most border planes (the smallest id on a tie): it
+  // keeps its place.
+  struct Keeper {
+    int32_t vertex = -1;
+    const std::vector<int32_t>* planes = nullptr;
+  };
+  std::map<int32_t, Keeper> keeper;
+  // A cluster with a border vertex goes to its keeper, any other to its centroid: worked out
+  // before any point moves, as the points are then renumbered in place.
+  struct Cluster {
+    Vec3 sum{};
+    int count = 0;
+    int32_t keeper = -1;
+    Vec3 to{};
+  };
+  std::map<int32_t, Cluster> clusters;
+  std::vector<int32_t> new_id;  // per old point
+  // The faces with a member vertex, renumbered and collapsed: faces [member_begin[i], ...).
+  std::vector<int32_t> member_vertices;
+  std::vector<size_t> member_begin{0};
+};
+
+// One parallel pass: the short edges (in face order, deduplicated: each is seen from several
+// faces), the shortest edge and the border's area. `edges`: the short edges if known (later
+// passes), else empty and found by a scan of all faces. False if there are none.
+bool WeldPass::find_short_edges(std::vector<std::pair<int32_t, int32_t>>& edges) {
   const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
   std::vector<std::vector<std::pair<int32_t, int32_t>>> found(chunks);
   double shortest2 = INFINITY;
@@ -71,18 +141,23 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     }
   for (double a : chunk_area) st.border_area += a;
   st.shortest_edge_before = std::isfinite(shortest2) ? std::sqrt(shortest2) : 0;
-  std::vector<std::pair<int32_t, int32_t>> short_edges;
+  short_edges.clear();
   short_edges.swap(edges);
   for (auto& f : found) short_edges.insert(short_edges.end(), f.begin(), f.end());
   if (short_edges.empty()) {
     st.shortest_edge_after = st.shortest_edge_before;
-    return st;
+    return false;
   }
   std::sort(short_edges.begin(), short_edges.end());
   short_edges.erase(std::unique(short_edges.begin(), short_edges.end()), short_edges.end());
 
-  // Faces with a vertex on a short edge: the only ones welding can change.
-  std::vector<uint8_t> refused(m.points.size(), 0), member(m.points.size(), 0);
+  return true;
+}
+
+// Faces with a vertex on a short edge: the only ones welding can change; and their cells.
+void WeldPass::find_member_faces() {
+  const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
+  refused.assign(m.points.size(), 0), member.assign(m.points.size(), 0);
   for (auto [u, v] : short_edges) member[u] = member[v] = 1;
   std::vector<std::vector<int64_t>> touched(chunks);
 #pragma omp parallel for schedule(dynamic, 1)
@@ -93,20 +168,16 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
           touched[ch].push_back(int64_t(f));
           break;
         }
-  std::vector<int64_t> member_faces;
   for (auto& t : touched) member_faces.insert(member_faces.end(), t.begin(), t.end());
   // The cells welding can change.
-  std::vector<size_t> cells;
   for (int64_t f : member_faces)
     cells.push_back(size_t(std::upper_bound(m.cell_face_begin.begin(), m.cell_face_begin.end(), f) -
                            m.cell_face_begin.begin() - 1));
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-  // Later passes only change cells with a vertex moved here: these cells (see weld_mesh).
-  if (before_change) before_change(cells);
 
-  // Border planes of every vertex on a short edge, and a multi-region solid's interface facets
-  // (one numbering: both are the regions' facets), which bind a vertex the same way.
-  std::map<int32_t, std::vector<int32_t>> planes;
+}
+
+void WeldPass::gather_planes() {
   for (auto [u, v] : short_edges) planes[u], planes[v];
   for (int64_t f : member_faces) {
     const int32_t g = m.face_generator[f];
@@ -122,121 +193,22 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     }
   }
   for (auto& [v, p] : planes) std::sort(p.begin(), p.end());
+}
 
-  // Merge, then refuse every cluster that would make a face touch itself (a vertex twice, not
-  // in a row) or move a vertex off a border plane it lies on (a cluster needs one vertex on every
-  // plane its members are on: it keeps its place, so the domain's features stay where they
-  // are), and merge again without them, until no cluster is refused.
-  UnionFind uf(m.points.size());
-  std::vector<int32_t> cyc, sorted, root(m.points.size(), 0);
-  // Per cluster root, the vertex on the most border planes (the smallest id on a tie): it
-  // keeps its place.
-  struct Keeper {
-    int32_t vertex = -1;
-    const std::vector<int32_t>* planes = nullptr;
-  };
-  std::map<int32_t, Keeper> keeper;
-  // A cluster with a border vertex goes to its keeper, any other to its centroid: worked out
-  // before any point moves, as the points are then renumbered in place.
-  struct Cluster {
-    Vec3 sum{};
-    int count = 0;
-    int32_t keeper = -1;
-    Vec3 to{};
-  };
-  std::map<int32_t, Cluster> clusters;
-  const auto find_clusters = [&] {
-    clusters.clear();
-    for (const auto& [v, p] : planes) {
-      if (refused[v]) continue;
-      Cluster& c = clusters[uf.find(v)];
-      c.sum = c.sum + m.points[v];
-      ++c.count;
-      const Keeper& k = keeper.at(uf.find(v));
-      if (!k.planes->empty()) c.keeper = k.vertex;
-    }
-    for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
-  };
-  // Where a staying vertex goes: its cluster's target, or its own place if it is alone.
-  const auto destination = [&](int32_t root) {
-    const auto it = member[root] ? clusters.find(root) : clusters.end();
-    return it != clusters.end() && it->second.count > 1 ? it->second.to : m.points[root];
-  };
+// Merge, then refuse every cluster that would make a face touch itself or move a vertex off a
+// border plane it lies on (a cluster needs one vertex on every plane its members are on: it keeps
+// its place, so the domain's features stay where they are), or leave a cell open or flattened,
+// and merge again without them, until no cluster is refused.
+void WeldPass::decide_clusters() {
+  root.assign(m.points.size(), 0);
   for (;;) {
     uf = UnionFind(m.points.size());
     for (auto [u, v] : short_edges)
       if (!refused[u] && !refused[v]) uf.unite(u, v);
-    bool pinched = false;
-    for (int64_t f : member_faces) {
-      const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
-      collapsed(m, f, [&](int32_t v) { return uf.find(v); }, cyc);
-      sorted = cyc;
-      std::sort(sorted.begin(), sorted.end());
-      for (size_t k = 1; k < sorted.size(); ++k)
-        if (sorted[k] == sorted[k - 1]) {
-          // Refuse the whole cluster: every vertex whose root is this one.
-          for (int64_t j = b; j < e; ++j)
-            if (uf.find(m.face_vertices[j]) == sorted[k]) refused[m.face_vertices[j]] = 1;
-          pinched = true;
-        }
-    }
-    keeper.clear();
-    for (const auto& [v, p] : planes) {
-      if (refused[v]) continue;
-      Keeper& k = keeper[uf.find(v)];
-      if (!k.planes || p.size() > k.planes->size()) k = {v, &p};
-    }
-    for (const auto& [v, p] : planes) {
-      if (refused[v]) continue;
-      const std::vector<int32_t>& kept = *keeper[uf.find(v)].planes;
-      if (!std::includes(kept.begin(), kept.end(), p.begin(), p.end())) refused[v] = 1, pinched = true;
-    }
-    // A cell that would no longer close (a cluster spanning a cell thinner than w folds its
-    // faces onto each other: a domain whose details are below w) keeps all its vertices.
-    // In parallel over the cells, from the clusters' roots found once (find compresses paths).
-    if (!pinched) {
-      for (auto [u, v] : short_edges) root[u] = uf.find(u), root[v] = uf.find(v);
-      std::vector<uint8_t> open_cell(cells.size(), 0);
-#pragma omp parallel
-      {
-        EdgeUses closure;
-        std::vector<int32_t> face;
-#pragma omp for schedule(dynamic, 64)
-        for (size_t i = 0; i < cells.size(); ++i) {
-          const size_t c = cells[i];
-          closure.clear();
-          for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-            collapsed(m, f, [&](int32_t v) { return member[v] ? root[v] : v; }, face);
-            for (size_t k = 0; face.size() >= 3 && k < face.size(); ++k)
-              closure.add(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()]));
-          }
-          open_cell[i] = !closure.each_once_each_way();
-        }
-      }
-      // A cell that would close but lose half its volume or more (a piece of a cell smaller
-      // than w, cut off by an interface, flattened onto itself) keeps its vertices too.
-      find_clusters();
-#pragma omp parallel
-      {
-        std::vector<int32_t> face;
-#pragma omp for schedule(dynamic, 64)
-        for (size_t i = 0; i < cells.size(); ++i) {
-          if (open_cell[i]) continue;
-          const size_t c = cells[i];
-          const double before = cell_volume6(m, c, [](int32_t v) { return v; }, [&](int32_t v) { return m.points[v]; }, face);
-          const double after = cell_volume6(m, c, [&](int32_t v) { return member[v] ? root[v] : v; }, destination, face);
-          open_cell[i] = !(after > 0.5 * before);
-        }
-      }
-      for (size_t i = 0; i < cells.size(); ++i) {
-        if (!open_cell[i]) continue;
-        const size_t c = cells[i];
-        for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
-          if (member[m.face_vertices[k]]) refused[m.face_vertices[k]] = 1;
-        pinched = true;
-      }
-    }
-    if (!pinched) break;
+    bool refused_any = refuse_pinches();
+    refused_any |= refuse_off_plane();
+    if (!refused_any) refused_any = refuse_for_cells();
+    if (!refused_any) break;
     for (bool spread = true; spread;) {  // refuse the rest of those clusters too
       spread = false;
       for (auto [u, v] : short_edges)
@@ -251,13 +223,111 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       st.clusters_refused += refused[v] && refused_clusters.find(int32_t(v)) == int32_t(v);
   }
   find_clusters();
+}
 
-  // A vertex stays (with a new id) unless welding merged it into another, its cluster's root.
-  const auto stays = [&](size_t v) { return !member[v] || uf.find(int32_t(v)) == int32_t(v); };
+// A cluster that would make a face touch itself (a vertex twice, not in a row) is refused
+// whole: every vertex whose root is the repeated one.
+bool WeldPass::refuse_pinches() {
+  bool refused_any = false;
+  for (int64_t f : member_faces) {
+    const int64_t b = m.face_vertex_begin[f], e = m.face_vertex_begin[f + 1];
+    collapsed(m, f, [&](int32_t v) { return uf.find(v); }, cyc);
+    sorted = cyc;
+    std::sort(sorted.begin(), sorted.end());
+    for (size_t k = 1; k < sorted.size(); ++k)
+      if (sorted[k] == sorted[k - 1]) {
+        // Refuse the whole cluster: every vertex whose root is this one.
+        for (int64_t j = b; j < e; ++j)
+          if (uf.find(m.face_vertices[j]) == sorted[k]) refused[m.face_vertices[j]] = 1;
+        refused_any = true;
+      }
+  }
+  return refused_any;
+}
 
-  // New points: one per root, in id order; every old point's new id.
-  const size_t np = m.points.size();
-  std::vector<int32_t> new_id(np, -1);
+// Per cluster root, the vertex on the most border planes keeps its place; a member on a plane
+// the keeper is not on would leave it, and is refused.
+bool WeldPass::refuse_off_plane() {
+  bool refused_any = false;
+  keeper.clear();
+  for (const auto& [v, p] : planes) {
+    if (refused[v]) continue;
+    Keeper& k = keeper[uf.find(v)];
+    if (!k.planes || p.size() > k.planes->size()) k = {v, &p};
+  }
+  for (const auto& [v, p] : planes) {
+    if (refused[v]) continue;
+    const std::vector<int32_t>& kept = *keeper[uf.find(v)].planes;
+    if (!std::includes(kept.begin(), kept.end(), p.begin(), p.end())) refused[v] = 1, refused_any = true;
+  }
+  return refused_any;
+}
+
+// A cell that would no longer close (a cluster spanning a cell thinner than w folds its faces
+// onto each other: a domain whose details are below w) keeps all its vertices. In parallel over
+// the cells, from the clusters' roots found once (find compresses paths).
+bool WeldPass::refuse_for_cells() {
+  bool refused_any = false;
+        for (auto [u, v] : short_edges) root[u] = uf.find(u), root[v] = uf.find(v);
+        std::vector<uint8_t> open_cell(cells.size(), 0);
+  #pragma omp parallel
+        {
+          EdgeUses closure;
+          std::vector<int32_t> face;
+  #pragma omp for schedule(dynamic, 64)
+          for (size_t i = 0; i < cells.size(); ++i) {
+            const size_t c = cells[i];
+            closure.clear();
+            for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+              collapsed(m, f, [&](int32_t v) { return member[v] ? root[v] : v; }, face);
+              for (size_t k = 0; face.size() >= 3 && k < face.size(); ++k)
+                closure.add(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()]));
+            }
+            open_cell[i] = !closure.each_once_each_way();
+          }
+        }
+        // A cell that would close but lose half its volume or more (a piece of a cell smaller
+        // than w, cut off by an interface, flattened onto itself) keeps its vertices too.
+        find_clusters();
+  #pragma omp parallel
+        {
+          std::vector<int32_t> face;
+  #pragma omp for schedule(dynamic, 64)
+          for (size_t i = 0; i < cells.size(); ++i) {
+            if (open_cell[i]) continue;
+            const size_t c = cells[i];
+            const double before = cell_volume6(m, c, [](int32_t v) { return v; }, [&](int32_t v) { return m.points[v]; }, face);
+            const double after = cell_volume6(m, c, [&](int32_t v) { return member[v] ? root[v] : v; }, [&](int32_t v) { return destination(v); }, face);
+            open_cell[i] = !(after > 0.5 * before);
+          }
+        }
+        for (size_t i = 0; i < cells.size(); ++i) {
+          if (!open_cell[i]) continue;
+          const size_t c = cells[i];
+          for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
+            if (member[m.face_vertices[k]]) refused[m.face_vertices[k]] = 1;
+          refused_any = true;
+        }
+  return refused_any;
+}
+
+void WeldPass::find_clusters() {
+  clusters.clear();
+  for (const auto& [v, p] : planes) {
+    if (refused[v]) continue;
+    Cluster& c = clusters[uf.find(v)];
+    c.sum = c.sum + m.points[v];
+    ++c.count;
+    const Keeper& k = keeper.at(uf.find(v));
+    if (!k.planes->empty()) c.keeper = k.vertex;
+  }
+  for (auto& [root, c] : clusters) c.to = c.keeper >= 0 ? m.points[c.keeper] : (1.0 / c.count) * c.sum;
+}
+
+// New points: one per root, in id order; every old point's new id.
+void WeldPass::move_points() {
+    const size_t np = m.points.size();
+  new_id.assign(np, -1);
   int32_t kept = 0;
   for (size_t v = 0; v < np; ++v)
     if (stays(v)) new_id[v] = kept++;
@@ -272,13 +342,16 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     if (stays(v)) m.points[new_id[v]] = destination(int32_t(v));
   m.points.resize(size_t(kept));
 
-  // Faces. Only faces with a member vertex can lose vertices (or vanish, with fewer than three
-  // left): their new vertex lists are made first; every other face is renumbered where it is.
-  // The arrays are then rewritten in place from the first face that shrank on, which keeps the
-  // peak memory of a welded run that of the mesh (a rebuilt copy of the face arrays added half
-  // of it at 1e6 cells).
-  std::vector<int32_t> member_vertices;
-  std::vector<size_t> member_begin{0};
+}
+
+// Faces. Only faces with a member vertex can lose vertices (or vanish, with fewer than three
+// left): their new vertex lists are made first; every other face is renumbered where it is. The
+// arrays are then rewritten in place from the first face that shrank on, which keeps the peak
+// memory of a welded run that of the mesh (a rebuilt copy of the face arrays added half of it at
+// 1e6 cells).
+void WeldPass::rewrite_faces() {
+  const size_t nf = m.face_count();
+  member_vertices.clear(), member_begin.assign(1, 0);
   for (int64_t f : member_faces) {
     collapsed(m, f, [&](int32_t v) { return new_id[v]; }, cyc);
     member_vertices.insert(member_vertices.end(), cyc.begin(), cyc.end());
@@ -334,7 +407,12 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
     m.face_vertices.resize(size_t(entry));
   }
 
-  // The shortest edge now.
+}
+
+// The shortest edge now; and, of the faces that had a merged vertex, the non-planarity (distance
+// of each vertex from the best-fit plane) and the edges still shorter than w, which are the only
+// places the next pass needs to look.
+void WeldPass::measure_after(std::vector<std::pair<int32_t, int32_t>>& edges) {
   const size_t faces_after = m.face_count();
   double shortest_after2 = INFINITY;
 #pragma omp parallel for schedule(static) reduction(min : shortest_after2)
@@ -345,9 +423,6 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
   }
   st.shortest_edge_after = std::isfinite(shortest_after2) ? std::sqrt(shortest_after2) : 0;
 
-  // Of the faces that had a merged vertex: the non-planarity (distance of each vertex from the
-  // best-fit plane), and the edges still shorter than w, which are the only places the next
-  // pass needs to look.
   const Buffer<Vec3>& points = m.points;
   for (size_t i = 0; i < member_faces.size(); ++i) {
     cyc.assign(member_vertices.begin() + member_begin[i], member_vertices.begin() + member_begin[i + 1]);
@@ -363,9 +438,6 @@ WeldStats weld_pass(PolyMesh& m, double w, double r, std::vector<std::pair<int32
       st.max_nonplanarity = std::max(st.max_nonplanarity, std::abs(dot(plane.normal, points[v] - plane.centroid)) / r);
   }
 
-  m.volumes.clear();
-  m.quality.clear();
-  return st;
 }
 
 }  // namespace
@@ -377,9 +449,9 @@ WeldStats weld_mesh(PolyMesh& m, double w, double r,
   std::vector<std::pair<int32_t, int32_t>> edges;
   // A later pass's short edges all have a vertex the first pass moved, so the cells it changes
   // were changed by the first pass already: before_change is told once.
-  WeldStats total = weld_pass(m, w, r, edges, before_change);
+  WeldStats total = WeldPass(m, w, r).run(edges, before_change);
   for (int pass = 1; pass < 16 && !edges.empty(); ++pass) {
-    const WeldStats more = weld_pass(m, w, r, edges, {});
+    const WeldStats more = WeldPass(m, w, r).run(edges, {});
     if (more.edges_collapsed == 0) break;
     total.edges_collapsed += more.edges_collapsed;
     total.faces_removed += more.faces_removed;
