@@ -137,13 +137,10 @@ std::string where_edge(const std::vector<Vec3>& V, int32_t a, int32_t b) {
   return fmt::format("edge {}-{} {} {}", a, b, fmt_point(V[a]), fmt_point(V[b]));
 }
 
-}  // namespace
-
-// The surface validated, its shells nested and oriented, its facet planes grouped; no features yet.
-static Domain validated_domain(const TriangleSurface& input, const std::string& name, bool repair) {
-  TriangleSurface s = input;
+// Finite coordinates, and triangles of positive area.
+void check_points_and_triangles(const TriangleSurface& s, const std::string& name) {
   const auto& V = s.vertices;
-  auto& T = s.triangles;
+  const auto& T = s.triangles;
   if (T.size() < 4) fail(ErrorKind::InvalidInput, fmt::format("{}: {} triangles cannot close a solid", name, T.size()));
   for (size_t v = 0; v < V.size(); ++v)
     if (!std::isfinite(V[v].x) || !std::isfinite(V[v].y) || !std::isfinite(V[v].z))
@@ -154,23 +151,29 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
       fail(ErrorKind::InvalidInput, fmt::format("{}: triangle {} is degenerate (zero area): {} {} {}", name, t,
                                                 fmt_point(V[a]), fmt_point(V[b]), fmt_point(V[c])));
   }
+}
 
-  // Each undirected edge must be used by exactly two triangles.
-  struct Use { int32_t tri; bool forward; };
-  std::map<std::pair<int32_t, int32_t>, std::vector<Use>> edges;
-  for (size_t t = 0; t < T.size(); ++t)
-    for (int e = 0; e < 3; ++e) {
-      int32_t a = T[t][e], b = T[t][(e + 1) % 3];
-      edges[{std::min(a, b), std::max(a, b)}].push_back({int32_t(t), a < b});
-    }
-  std::vector<std::vector<std::pair<int32_t, bool>>> across(T.size());  // neighbour, same direction?
+// Each undirected edge with the triangles that use it, and whether they run it forward.
+struct EdgeUse {
+  int32_t tri;
+  bool forward;
+};
+using EdgeUses = std::map<std::pair<int32_t, int32_t>, std::vector<EdgeUse>>;
+
+// Each undirected edge must be used by exactly two triangles, in opposite directions unless
+// `repair`. Returns each triangle's neighbours across its edges, with whether they run the
+// shared edge the same way.
+std::vector<std::vector<std::pair<int32_t, bool>>> check_edges(const TriangleSurface& s, const EdgeUses& edges,
+                                                               const std::string& name, bool repair) {
+  const auto& V = s.vertices;
+  std::vector<std::vector<std::pair<int32_t, bool>>> across(s.triangles.size());  // neighbour, same direction?
   for (const auto& [edge, uses] : edges) {
     if (uses.size() == 1)
       fail(ErrorKind::InvalidInput, fmt::format("{}: surface is not closed: {} belongs to triangle {} only", name,
                                                 where_edge(V, edge.first, edge.second), uses[0].tri));
     if (uses.size() > 2) {
       std::string tris;
-      for (const Use& u : uses) tris += fmt::format("{}{}", tris.empty() ? "" : ", ", u.tri);
+      for (const EdgeUse& u : uses) tris += fmt::format("{}{}", tris.empty() ? "" : ", ", u.tri);
       fail(ErrorKind::InvalidInput, fmt::format("{}: surface is not manifold: {} is shared by {} triangles ({})", name,
                                                 where_edge(V, edge.first, edge.second), uses.size(), tris));
     }
@@ -183,31 +186,39 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
     across[uses[0].tri].push_back({uses[1].tri, same});
     across[uses[1].tri].push_back({uses[0].tri, same});
   }
-  // Each vertex's triangles must form one fan around it (joined across the edges at the vertex):
-  // two solids touching at a point are closed and edge-manifold but bound no solid there. The
-  // corners (triangle, vertex) of one fan are joined across its edges.
-  {
-    UnionFind fans(3 * T.size());
-    auto corner = [&](int32_t t, int32_t v) { return 3 * t + int32_t(T[t][0] == v ? 0 : T[t][1] == v ? 1 : 2); };
-    for (const auto& [edge, uses] : edges)
-      for (int32_t v : {edge.first, edge.second}) fans.unite(corner(uses[0].tri, v), corner(uses[1].tri, v));
-    std::vector<int32_t> first_fan(V.size(), -1);
-    for (size_t c = 0; c < 3 * T.size(); ++c) {
-      const int32_t v = T[c / 3][c % 3], fan = fans.find(int32_t(c));
-      if (first_fan[v] < 0) first_fan[v] = fan;
-      else if (first_fan[v] != fan)
-        fail(ErrorKind::InvalidInput,
-             fmt::format("{}: surface is not manifold at vertex {} {}: its triangles form separate fans (parts that "
-                         "touch at a single point); move them apart or join them along a face",
-                         name, v, fmt_point(V[v])));
-    }
-  }
+  return across;
+}
 
-  // Shells: edge-connected components, each wound consistently (flipping triangles if --repair).
-  std::vector<int32_t> component(T.size(), -1);
+// Each vertex's triangles must form one fan around it (joined across the edges at the vertex):
+// two solids touching at a point are closed and edge-manifold but bound no solid there. The
+// corners (triangle, vertex) of one fan are joined across its edges.
+void check_vertex_fans(const TriangleSurface& s, const EdgeUses& edges, const std::string& name) {
+  const auto& V = s.vertices;
+  const auto& T = s.triangles;
+  UnionFind fans(3 * T.size());
+  auto corner = [&](int32_t t, int32_t v) { return 3 * t + int32_t(T[t][0] == v ? 0 : T[t][1] == v ? 1 : 2); };
+  for (const auto& [edge, uses] : edges)
+    for (int32_t v : {edge.first, edge.second}) fans.unite(corner(uses[0].tri, v), corner(uses[1].tri, v));
+  std::vector<int32_t> first_fan(V.size(), -1);
+  for (size_t c = 0; c < 3 * T.size(); ++c) {
+    const int32_t v = T[c / 3][c % 3], fan = fans.find(int32_t(c));
+    if (first_fan[v] < 0) first_fan[v] = fan;
+    else if (first_fan[v] != fan)
+      fail(ErrorKind::InvalidInput,
+           fmt::format("{}: surface is not manifold at vertex {} {}: its triangles form separate fans (parts that "
+                       "touch at a single point); move them apart or join them along a face",
+                       name, v, fmt_point(V[v])));
+  }
+}
+
+// Shells: edge-connected components (each triangle's in `component`), each wound consistently
+// (flipping triangles if repair was asked, counted in d.reoriented_triangles). Returns how many.
+int32_t orient_shells(TriangleSurface& s, const std::vector<std::vector<std::pair<int32_t, bool>>>& across,
+                      std::vector<int32_t>& component, Domain& d, const std::string& name) {
+  auto& T = s.triangles;
+  component.assign(T.size(), -1);
   std::vector<char> flip(T.size(), 0);
   int32_t shells = 0;
-  Domain d;
   for (size_t seed = 0; seed < T.size(); ++seed) {
     if (component[seed] >= 0) continue;
     std::vector<int32_t> stack{int32_t(seed)};
@@ -231,20 +242,21 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   }
   for (size_t t = 0; t < T.size(); ++t)
     if (flip[t]) std::swap(T[t][1], T[t][2]), ++d.reoriented_triangles;
+  return shells;
+}
 
-  // Nesting: a shell inside an odd number of others bounds a cavity. Orientation is taken from
-  // nesting, never trusted to the file: outer shells face out, cavity shells into the cavity.
+// Nesting: a shell inside an odd number of others bounds a cavity. Orientation is taken from
+// nesting, never trusted to the file: outer shells face out, cavity shells into the cavity.
+void nest_shells(TriangleSurface& s, const std::vector<int32_t>& component, int32_t shells, const Box& bounds,
+                 Domain& d, const std::string& name) {
+  const auto& V = s.vertices;
+  auto& T = s.triangles;
   std::vector<double> volume6(shells, 0);
   std::vector<std::vector<int32_t>> triangles_of(shells);
   for (size_t t = 0; t < T.size(); ++t) {
     auto [a, b, c] = T[t];
     volume6[component[t]] += dot(V[a], cross(V[b], V[c]));
     if (triangles_of[component[t]].size() < 8) triangles_of[component[t]].push_back(int32_t(t));
-  }
-  Box b{V[0], V[0]};
-  for (Vec3 p : V) {
-    b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y), std::min(b.lo.z, p.z)};
-    b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y), std::max(b.hi.z, p.z)};
   }
   std::vector<char> reverse(shells, 0);
   for (int32_t c = 0; c < shells; ++c) {
@@ -261,7 +273,7 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
           const double u = 0.6180339887 * (attempt + 1), w = 0.4142135623 * (attempt + 1);
           const Vec3 dir{std::cos(2 * M_PI * u) * std::sin(M_PI * w), std::sin(2 * M_PI * u) * std::sin(M_PI * w),
                          std::cos(M_PI * w)};
-          n = crossings(s, component, c, p, p + 2 * (b.diagonal() + 1) * dir);
+          n = crossings(s, component, c, p, p + 2 * (bounds.diagonal() + 1) * dir);
         }
       }
       if (!n) fail(ErrorKind::Internal, fmt::format("{}: could not decide which shells enclose shell {}", name, c));
@@ -274,18 +286,15 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   for (size_t t = 0; t < T.size(); ++t)
     if (reverse[component[t]]) std::swap(T[t][1], T[t][2]);
   d.shells = size_t(shells);
+}
 
-  // Self-intersections (exact), on the oriented surface.
-  d.locator = std::make_shared<SurfaceLocator>(s);
-  if (auto pair = d.locator->first_self_intersection())
-    fail(ErrorKind::InvalidInput,
-         fmt::format("{}: surface intersects itself: triangles {} and {} meet away from a shared edge or vertex, near {}",
-                     name, pair->first, pair->second, fmt_point(V[T[pair->first][0]])));
-
-  // Facet planes: one per edge-connected group of coplanar triangles (exact), Newell normal
-  // (area-weighted), offset averaged over the corners. Convex: one shell and no reflex edge.
+// Facet planes: one per edge-connected group of coplanar triangles (exact), Newell normal
+// (area-weighted), offset averaged over the corners. Returns whether no edge is reflex.
+bool group_facet_planes(const TriangleSurface& s, const EdgeUses& edges, Domain& d) {
+  const auto& V = s.vertices;
+  const auto& T = s.triangles;
+  bool locally_convex = true;
   UnionFind coplanar(T.size());
-  bool locally_convex = shells == 1;
   for (const auto& [edge, uses] : edges) {
     const auto& p = T[uses[0].tri];
     const auto& q = T[uses[1].tri];
@@ -294,7 +303,6 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
     if (o == CGAL::POSITIVE) locally_convex = false;
     if (o == CGAL::COPLANAR) coplanar.unite(uses[0].tri, uses[1].tri);
   }
-  d.description = name;
   std::map<int32_t, int32_t> plane_of_root;
   std::vector<std::pair<Vec3, std::vector<int32_t>>> groups;
   d.triangle_plane.resize(T.size());
@@ -313,13 +321,17 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
     for (int32_t v : corners) off += dot(n, V[v]);
     d.planes.push_back({n, off / double(corners.size())});
   }
+  return locally_convex;
+}
 
+// The enclosed volume and the area, which must be finite and positive.
+void measure_solid(const TriangleSurface& s, const Box& b, Domain& d, const std::string& name) {
+  const auto& V = s.vertices;
   double total6 = 0, area2 = 0;
-  for (auto [p0, p1, p2] : T) {
+  for (auto [p0, p1, p2] : s.triangles) {
     total6 += dot(V[p0], cross(V[p1], V[p2]));
     area2 += norm(cross(V[p1] - V[p0], V[p2] - V[p0]));
   }
-  d.bounds = b;
   d.volume = total6 / 6;
   d.surface_area = area2 / 2;
   if (!std::isfinite(d.volume) || !std::isfinite(d.surface_area))
@@ -330,7 +342,45 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
                                      std::abs(b.hi.y), std::abs(b.hi.z)})));
   if (!(d.volume > 0))
     fail(ErrorKind::InvalidInput, fmt::format("{}: the surface encloses no volume ({})", name, d.volume));
+}
 
+}  // namespace
+
+// The surface validated, its shells nested and oriented, its facet planes grouped; no features yet.
+static Domain validated_domain(const TriangleSurface& input, const std::string& name, bool repair) {
+  TriangleSurface s = input;
+  const auto& V = s.vertices;
+  auto& T = s.triangles;
+  check_points_and_triangles(s, name);
+  EdgeUses edges;
+  for (size_t t = 0; t < T.size(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      int32_t a = T[t][e], b = T[t][(e + 1) % 3];
+      edges[{std::min(a, b), std::max(a, b)}].push_back({int32_t(t), a < b});
+    }
+  const auto across = check_edges(s, edges, name, repair);
+  check_vertex_fans(s, edges, name);
+  Domain d;
+  std::vector<int32_t> component;
+  const int32_t shells = orient_shells(s, across, component, d, name);
+  Box b{V[0], V[0]};
+  for (Vec3 p : V) {
+    b.lo = {std::min(b.lo.x, p.x), std::min(b.lo.y, p.y), std::min(b.lo.z, p.z)};
+    b.hi = {std::max(b.hi.x, p.x), std::max(b.hi.y, p.y), std::max(b.hi.z, p.z)};
+  }
+  nest_shells(s, component, shells, b, d, name);
+
+  // Self-intersections (exact), on the oriented surface.
+  d.locator = std::make_shared<SurfaceLocator>(s);
+  if (auto pair = d.locator->first_self_intersection())
+    fail(ErrorKind::InvalidInput,
+         fmt::format("{}: surface intersects itself: triangles {} and {} meet away from a shared edge or vertex, near {}",
+                     name, pair->first, pair->second, fmt_point(V[T[pair->first][0]])));
+
+  d.description = name;
+  const bool locally_convex = group_facet_planes(s, edges, d) && shells == 1;
+  d.bounds = b;
+  measure_solid(s, b, d, name);
   // Local convexity does not exclude a surface that winds around twice; every vertex must lie
   // inside every facet plane (self-intersection is already excluded, so this is a safeguard).
   d.convex = locally_convex;
