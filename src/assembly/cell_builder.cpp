@@ -52,37 +52,32 @@ std::vector<int32_t> CellBuilder::seed_regions() const {
   return out;
 }
 
-CellBuilder::CellError CellBuilder::build(int32_t i, ConvexCell& cell, CellClipper* clipper, ClippedCell& clipped,
-                                         bool& is_clipped, std::vector<Neighbour>& nb,
-                                         std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper,
-                                         RegionCell* in_regions, int32_t own_region) const {
+CellBuilder::CellError CellBuilder::build(int32_t i, Workspace& w, int32_t own_region) const {
   const Vec3 x = sample_.seeds[i];
-  gather_neighbours(i, x, reach_, nb);
+  gather_neighbours(i, x, reach_, w.nb);
   double extent2 = 0;
   bool beyond = false;
-  CellError e = cut_and_clip(i, nb, cell, clipper, clipped, is_clipped, names, region_clipper, in_regions, own_region,
-                             extent2, beyond);
+  CellError e = cut_and_clip(i, w, own_region, extent2, beyond);
   if (!beyond) return e;
   recut_.fetch_add(1, std::memory_order_relaxed);
   // The seeds within 2r cut V to the Voronoi cell within r of x (Lemma 1), which holds all of
   // the cell in D if the sample is maximal; but a part of V ∩ D beyond r of x (behind a wall
   // or across a gap) may belong to a seed farther than 2r. So V is cut again by every seed
   // within its security radius, twice its extent: then V ∩ D is the cell, all within r.
-  gather_neighbours(i, x, 2 * std::sqrt(extent2) * (1 + 1e-9) + 4 * eps_, nb);
-  e = cut_and_clip(i, nb, cell, clipper, clipped, is_clipped, names, region_clipper, in_regions, own_region, extent2,
-                   beyond);
+  gather_neighbours(i, x, 2 * std::sqrt(extent2) * (1 + 1e-9) + 4 * eps_, w.nb);
+  e = cut_and_clip(i, w, own_region, extent2, beyond);
   if (beyond)
     return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed in the domain: the sample is not maximal",
                        i, x.x, x.y, x.z);
   return e;
 }
 
-CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbour>& nb, ConvexCell& cell,
-                                                 CellClipper* clipper, ClippedCell& clipped, bool& is_clipped,
-                                                 std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper,
-                                                 RegionCell* in_regions, int32_t own_region, double& extent2,
+CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, Workspace& w, int32_t own_region, double& extent2,
                                                  bool& beyond) const {
   const Vec3 x = sample_.seeds[i];
+  ConvexCell& cell = w.cell;
+  ClippedCell& clipped = w.clipped;
+  bool& is_clipped = w.is_clipped;
   const double half = 1.05 * r_;  // the cell lies in the ball of radius r (Lemma 1)
   cell.reset_cube(half);
   is_clipped = false;
@@ -105,7 +100,7 @@ CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbou
   auto security_bound = [&](double rmax2) { return 4 * rmax2 + 4 * eps_ * std::sqrt(rmax2); };
   double bound = security_bound(cell.max_radius2());
   bool exact = true;  // else `bound` is the lower one
-  for (const Neighbour& n : nb) {
+  for (const Neighbour& n : w.nb) {
     if (n.d2 > bound) {
       if (exact) break;
       bound = security_bound(cell.max_radius2()), exact = true;
@@ -126,14 +121,14 @@ CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbou
       if (norm2(c.vertex(v)) > limit2) return true;
     return false;
   };
-  if (region_clipper) {
+  if (w.region_clipper) {
     if (own_region < 0) return fmt::format("cell {} at ({}, {}, {}): its seed lies in no region", i, x.x, x.y, x.z);
     std::string error;
-    if (!region_clipper->clip(i, x, anchor_of(i), own_region, cell, half, sample_.seeds, eps_, *in_regions, error)) {
-      beyond = region_clipper->reached_cube();
+    if (!w.region_clipper->clip(i, x, anchor_of(i), own_region, cell, half, sample_.seeds, eps_, w.in_regions, error)) {
+      beyond = w.region_clipper->reached_cube();
       return error;
     }
-    beyond = reaches_beyond(*in_regions);
+    beyond = reaches_beyond(w.in_regions);
     return {};
   }
   if (!cut_by_planes_) {
@@ -141,7 +136,7 @@ CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbou
     const Vec3 anchor = anchor_of(i);
     int32_t facet = -1;
     const CellClipper::Result result =
-        clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
+        w.clipper->clip(i, x, anchor, cell, half, sample_.seeds, clipped, facet, error);
     if (result == CellClipper::Result::ReachesCube) {
       beyond = true;
       return {};
@@ -160,7 +155,7 @@ CellBuilder::CellError CellBuilder::cut_and_clip(int32_t i, std::vector<Neighbou
     if (ConvexCell::is_cube_generator(cell.face_generator(f)))
       return fmt::format("cell {} at ({}, {}, {}) is not closed within r of its seed: the sample is not maximal",
                          i, x.x, x.y, x.z);
-  if (!cell.vertex_names(names))
+  if (!cell.vertex_names(w.names))
     return fmt::format("cell {}: a vertex lies on more than {} faces", i, ConvexCell::kMaxGenerators);
   return {};
 }

@@ -45,14 +45,27 @@ class CellBuilder {
   CellBuilder(const Domain& domain, const Sample& sample, double r, bool clip_convex);
 
   // A clipper for one thread, or none for a convex domain.
-  std::unique_ptr<CellClipper> make_clipper() const {
-    return cut_by_planes_ ? nullptr : std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
+  // One thread's cell and scratch, reused from seed to seed; build() leaves its result here:
+  // `cell`, or `clipped` where it met a non-convex domain's surface, or `in_regions` (a
+  // multi-region solid's).
+  struct Workspace {
+    ConvexCell cell;
+    ClippedCell clipped;
+    bool is_clipped = false;
+    RegionCell in_regions;
+    std::vector<Neighbour> nb;
+    std::vector<ConvexCell::Names> names;  // of `cell`'s vertices
+    std::unique_ptr<CellClipper> clipper;  // a non-convex domain's
+    std::unique_ptr<RegionClipper> region_clipper;  // a multi-region solid's
+  };
+  Workspace workspace() const {
+    Workspace w;
+    if (!cut_by_planes_) w.clipper = std::make_unique<CellClipper>(domain_, *generators_, *triangles_);
+    if (regions_) w.region_clipper = std::make_unique<RegionClipper>(*regions_);
+    return w;
   }
 
   // A multi-region solid's clipper for one thread, or none.
-  std::unique_ptr<RegionClipper> make_region_clipper() const {
-    return regions_ ? std::make_unique<RegionClipper>(*regions_) : nullptr;
-  }
 
   // How many cells were cut again by seeds beyond 2r (build()).
   size_t recut_cells() const { return recut_.load(); }
@@ -70,12 +83,9 @@ class CellBuilder {
     bool failed() const { return !text.empty(); }
   };
 
-  // Builds cell i into `cell`, or, when it meets a non-convex domain's surface, into `clipped`
-  // (then `is_clipped` is set) with `clipper`, the thread's own; returns no error or what went
-  // wrong.
-  CellError build(int32_t i, ConvexCell& cell, CellClipper* clipper, ClippedCell& clipped, bool& is_clipped,
-                  std::vector<Neighbour>& nb, std::vector<ConvexCell::Names>& names, RegionClipper* region_clipper = nullptr,
-                  RegionCell* in_regions = nullptr, int32_t own_region = -1) const;
+  // Builds cell i in the thread's workspace `w` (a multi-region solid's seed in region
+  // `own_region`); returns no error or what went wrong.
+  CellError build(int32_t i, Workspace& w, int32_t own_region = -1) const;
 
  private:
   // A protection seed lies on the surface: inside tests start from a point just off it.
@@ -91,10 +101,7 @@ class CellBuilder {
   // Cell i cut by the neighbours `nb` (nearest first) up to its security radius, then clipped;
   // `extent2` the squared radius of the cut cell, `beyond` set where a part of it in the domain
   // reaches beyond r of the seed (build() then cuts it by farther seeds).
-  CellError cut_and_clip(int32_t i, std::vector<Neighbour>& nb, ConvexCell& cell, CellClipper* clipper,
-                         ClippedCell& clipped, bool& is_clipped, std::vector<ConvexCell::Names>& names,
-                         RegionClipper* region_clipper, RegionCell* in_regions, int32_t own_region, double& extent2,
-                         bool& beyond) const;
+  CellError cut_and_clip(int32_t i, Workspace& w, int32_t own_region, double& extent2, bool& beyond) const;
 
   CellError cut_failure(std::string text) const {
     CellError e(std::move(text));

@@ -227,12 +227,49 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-}  // namespace
+// The global id of a vertex that cell i (of seed first_seed + i) does not own, named by `key`
+// (len generators): its rank among its owner's owned vertices. The owner is the smallest built
+// seed among the name and this cell; names hold seed indices, `owner` and `i` are cell indices.
+// -1 where the owner has no such vertex; `degenerate` set where it was found as the owner's one
+// vertex whose longer name holds this one.
+int32_t owned_vertex(const std::vector<CellChunk>& chunks, const std::vector<int64_t>& owned_base, const int32_t* key,
+                     int len, int32_t i, int32_t first_seed, bool& degenerate) {
+  const int32_t owner = owner_of(key, len, first_seed) - first_seed;
+  const CellChunk& oc = chunks[owner / kCellsPerChunk];
+  const size_t ok = owner % kCellsPerChunk;
+  uint32_t okb = oc.owned_key_begin[ok];
+  int32_t found = -1;
+  for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
+    const int olen = oc.owned_key_len[w];
+    if (olen == len && same_vertex(key, i + first_seed, &oc.owned_keys[okb], owner + first_seed, len)) {
+      found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
+      break;
+    }
+    okb += olen;
+  }
+  if (found < 0) {  // a degenerate vertex: the owner's one vertex whose name holds this one's
+    okb = oc.owned_key_begin[ok];
+    for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
+      const int olen = oc.owned_key_len[w];
+      if (olen > len && inside_name(key, i + first_seed, len, &oc.owned_keys[okb], owner + first_seed, olen)) {
+        if (found >= 0) {  // two such: no single one to take
+          found = -1;
+          break;
+        }
+        found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
+      }
+      okb += olen;
+    }
+    degenerate = found >= 0;
+  }
+  return found;
+}
 
-PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
-                            SeedRange built, double min_piece_volume, const std::function<void(double)>& progress) {
-  auto t0 = std::chrono::steady_clock::now();
-  if (built.end < 0) built = {0, int32_t(sample.seeds.size())};
+// The cells of seeds `built` (all: {0, -1}), chunk by chunk in parallel; `times` gets the cells
+// stage's figures.
+std::vector<CellChunk> build_cells(const Domain& domain, const Sample& sample, double r, SeedRange built,
+                                   TessellationTimes* times, const std::function<void(double)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
   const int32_t first_seed = built.begin;
   const size_t n = size_t(built.end - built.begin);
   const size_t nchunks = (n + kCellsPerChunk - 1) / kCellsPerChunk;
@@ -254,14 +291,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
 
 #pragma omp parallel
     {
-      ConvexCell cell;
-      ClippedCell clipped;
-      const std::unique_ptr<CellClipper> clipper = builder.make_clipper();
-      const std::unique_ptr<RegionClipper> region_clipper = builder.make_region_clipper();
-      RegionCell in_regions;
-      bool is_clipped = false;
-      std::vector<Neighbour> nb;
-      std::vector<ConvexCell::Names> names;
+      CellBuilder::Workspace w = builder.workspace();
 #pragma omp for schedule(dynamic, 1)
       for (size_t c = 0; c < nchunks; ++c) {
         if (stop.load(std::memory_order_relaxed)) continue;
@@ -269,23 +299,21 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
         ch.reserve(std::min(n, (c + 1) * kCellsPerChunk) - c * kCellsPerChunk);
         for (size_t k = c * kCellsPerChunk; k < std::min(n, (c + 1) * kCellsPerChunk); ++k) {
           const int32_t i = first_seed + int32_t(k);
-          CellBuilder::CellError err =
-              builder.build(i, cell, clipper.get(), clipped, is_clipped, nb, names, region_clipper.get(), &in_regions,
-                            seed_region.empty() ? -1 : seed_region[size_t(i)]);
+          const CellBuilder::CellError err = builder.build(i, w, seed_region.empty() ? -1 : seed_region[size_t(i)]);
           if (err.failed()) {
             std::lock_guard lock(error_mutex);
             if (k < first_bad) first_bad = k, first_error = err;
             break;
           }
           const Sample::Protected* protection = sample.protection_of(i);
-          if (region_clipper) {
-            append_cell(ch, i, sample.seeds[i], in_regions, in_regions.names(), protection, built);
-            if (in_regions.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
+          if (w.region_clipper) {
+            append_cell(ch, i, sample.seeds[i], w.in_regions, w.in_regions.names(), protection, built);
+            if (w.in_regions.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
             continue;
           }
-          if (is_clipped) append_cell(ch, i, sample.seeds[i], clipped, clipped.names(), protection, built);
-          else append_cell(ch, i, sample.seeds[i], cell, names, protection, built);
-          if (is_clipped && clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
+          if (w.is_clipped) append_cell(ch, i, sample.seeds[i], w.clipped, w.clipped.names(), protection, built);
+          else append_cell(ch, i, sample.seeds[i], w.cell, w.names, protection, built);
+          if (w.is_clipped && w.clipped.pieces() > 1) ch.in_pieces.push_back(int32_t(k));
         }
         const size_t finished = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
         // The caller may stop the run from its progress callback: its error is carried out of
@@ -304,9 +332,15 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   }
   if (first_error.failed()) fail(first_error.kind, first_error.text);
   if (times) times->cells = seconds_since(t0), times->cells_peak_rss = peak_rss_bytes();
-  t0 = std::chrono::steady_clock::now();
+  return chunks;
+}
 
-  // Global numbering: owned vertices in seed order; faces and face vertices in cell order.
+// Global numbering: owned vertices in seed order; faces and face vertices in cell order. The
+// chunks' private parts are freed as they are copied; `chunk_face` gets each chunk's first face.
+PolyMesh number_globally(const Domain& domain, Sample& sample, double r, SeedRange built, std::vector<CellChunk>& chunks,
+                         std::vector<int64_t>& chunk_face, bool& merged_any) {
+  const int32_t first_seed = built.begin;
+  const size_t n = size_t(built.end - built.begin), nchunks = chunks.size();
   PolyMesh mesh;
   mesh.r = r;
   // The grid is not needed any more: free it before the peak.
@@ -314,7 +348,8 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   if (n == sample.seeds.size()) mesh.seeds = std::move(sample.seeds);
   else mesh.seeds.assign(sample.seeds.begin() + built.begin, sample.seeds.begin() + built.end);
   std::vector<int64_t> owned_base(n + 1, 0);
-  std::vector<int64_t> chunk_face(nchunks + 1, 0), chunk_fv(nchunks + 1, 0);
+  chunk_face.assign(nchunks + 1, 0);
+  std::vector<int64_t> chunk_fv(nchunks + 1, 0);
   for (size_t c = 0; c < nchunks; ++c) {
     const CellChunk& ch = chunks[c];
     size_t first = c * kCellsPerChunk;
@@ -358,36 +393,9 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
           }
           const int32_t* key = &ch.other_keys[other];
           other += len;
-          // The owner is the smallest built seed among the name and this cell; it is not this
-          // cell. Names hold seed indices; `owner` and `i` here are cell indices.
-          const int32_t owner = owner_of(key, len, first_seed) - first_seed;
-          const CellChunk& oc = chunks[owner / kCellsPerChunk];
-          const size_t ok = owner % kCellsPerChunk;
-          uint32_t okb = oc.owned_key_begin[ok];
-          int32_t found = -1;
-          for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
-            const int olen = oc.owned_key_len[w];
-            if (olen == len && same_vertex(key, i + first_seed, &oc.owned_keys[okb], owner + first_seed, len)) {
-              found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
-              break;
-            }
-            okb += olen;
-          }
-          if (found < 0) {  // a degenerate vertex: the owner's one vertex whose name holds this one's
-            okb = oc.owned_key_begin[ok];
-            for (uint32_t w = oc.owned_begin[ok]; w < oc.owned_begin[ok + 1]; ++w) {
-              const int olen = oc.owned_key_len[w];
-              if (olen > len && inside_name(key, i + first_seed, len, &oc.owned_keys[okb], owner + first_seed, olen)) {
-                if (found >= 0) {  // two such: no single one to take
-                  found = -1;
-                  break;
-                }
-                found = int32_t(owned_base[owner] + (w - oc.owned_begin[ok]));
-              }
-              okb += olen;
-            }
-            if (found >= 0) merged_degenerate.fetch_add(1, std::memory_order_relaxed);
-          }
+          bool degenerate = false;
+          const int32_t found = owned_vertex(chunks, owned_base, key, len, i, first_seed, degenerate);
+          if (degenerate) merged_degenerate.fetch_add(1, std::memory_order_relaxed);
           if (found < 0) unmatched.fetch_add(1, std::memory_order_relaxed);
           gid.push_back(std::max(found, 0));
         }
@@ -409,10 +417,25 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
          fmt::format("{} cell vertices are missing from the cell that owns them: neighbouring cells disagree "
                      "(near-degenerate seeds?)",
                      unmatched.load()));
+  merged_any = merged_degenerate > 0;
+  return mesh;
+}
+
+}  // namespace
+
+PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, TessellationTimes* times,
+                            SeedRange built, double min_piece_volume, const std::function<void(double)>& progress) {
+  if (built.end < 0) built = {0, int32_t(sample.seeds.size())};
+  const int32_t first_seed = built.begin;
+  std::vector<CellChunk> chunks = build_cells(domain, sample, r, built, times, progress);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<int64_t> chunk_face;
+  bool merged_degenerate = false;
+  PolyMesh mesh = number_globally(domain, sample, r, built, chunks, chunk_face, merged_degenerate);
   // Faces with holes as triangles, then a cell whose part of the domain is in several pieces
   // as one cell per piece.
   std::vector<HoledFace> holed;
-  for (size_t c = 0; c < nchunks; ++c)
+  for (size_t c = 0; c < chunks.size(); ++c)
     for (const auto& [face, loops] : chunks[c].holed) holed.push_back({chunk_face[c] + face, loops});
   if (const std::string error = triangulate_holed_faces(mesh, holed); !error.empty()) fail(ErrorKind::Internal, error);
   std::vector<SplitCell> split;
@@ -423,7 +446,7 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
       split.push_back({k, p ? x + 1e-6 * r * p->inward : x, min_piece_volume});
     }
   split_pieces(mesh, split, domain.regions.get());
-  if (merged_degenerate > 0) drop_repeated_vertices(mesh);
+  if (merged_degenerate) drop_repeated_vertices(mesh);
   if (times) times->assembly = seconds_since(t0);
   return mesh;
 }
