@@ -45,8 +45,8 @@ froth::MeshOptions options_of(const MeshArgs& a) {
 }
 
 // --dry-run: what the run would take, from the saturated density (froth::estimate_run) and the
-// pipeline's time per cell on 2 threads (docs/performance.md: about 11 us for a box without the
-// quality stage, twice that with it; non-convex parts up to twice again).
+// pipeline's time per cell on 2 threads, erring high (docs/performance.md measures it: a box's
+// time per cell, and real parts' multiples of it).
 int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOptions& opt) {
   const froth::RunEstimate e = froth::estimate_run(domain, opt);
   const int threads = opt.threads > 0 ? opt.threads : omp_get_max_threads();

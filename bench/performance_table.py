@@ -83,7 +83,7 @@ if not a.quick:
         f"wall {big['wall']:.2f} s against voro++'s cells alone {voro_s:.2f} s (1 thread): ratio "
         f"{big['wall'] / voro_s:.2f}")
 
-commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "log", "-1", "--format=%h %s"],
+commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "log", "-1", "--format=%h (%cs)"],
                         capture_output=True, text=True).stdout.strip()
 print(f"Measured {time.strftime('%Y-%m-%d')} at commit {commit}, {os.cpu_count()} cores.\n")
 print("| case | options | cells | total s | us per cell | per cell / box | peak MiB | note |")

@@ -19,8 +19,8 @@ namespace froth {
 
 namespace {
 
-// Bytes per cell at the run's peak (docs/performance.md: under 1 KiB per cell from 10^5 cells
-// up, with the quality stage), and per background cube (the seed index and the sampler's lists).
+// Bytes per cell at the run's peak with the quality stage (docs/performance.md measures it), and
+// per background cube (the seed index and the sampler's lists).
 constexpr double kBytesPerCell = 1024, kBytesPerCube = 8;
 
 constexpr double kMaxBackgroundCubes = 2e9;  // the sampler indexes base cubes with 32 bits
