@@ -61,7 +61,8 @@ std::vector<std::pair<std::string, std::vector<double>>> element_variables(const
   add("radius", [&](size_t c) { return m.radius_of(c, m.r); });
   add("piece", [&](size_t c) { return double(m.piece_of(c)); });
   if (m.quality.size() == n)
-    for (const auto& [name, member] : kQualityFields) add(name, [&m, member](size_t c) { return m.quality[c].*member; });
+    for (const auto& field : kQualityFields)  // (not a structured binding: clang 14 cannot capture one)
+      add(field.first, [&m, member = field.second](size_t c) { return m.quality[c].*member; });
   return vars;
 }
 
