@@ -1,0 +1,240 @@
+// Crack sheets read, validated and clipped to the solid (cracks.hpp). The clip is CGAL's
+// (Polygon Mesh Processing, exact constructions): the sheet keeps its part inside the solid's
+// closed surface, cut exactly where it crosses it, the new points rounded to doubles.
+#include "input/cracks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+#include <fmt/format.h>
+
+#include "common/union_find.hpp"
+#include "froth/error.hpp"
+
+namespace froth {
+namespace {
+
+using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
+using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
+using ExactMesh = CGAL::Surface_mesh<Exact::Point_3>;
+using Mesh = CGAL::Surface_mesh<Inexact::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+[[noreturn]] void bad(const std::string& name, const std::string& what) {
+  fail(ErrorKind::InvalidInput, fmt::format("crack {}: {}", name, what));
+}
+
+std::string at(Vec3 p) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", p.x, p.y, p.z); }
+
+double triangle_area(const TriangleSurface& s, const std::array<int32_t, 3>& t) {
+  const Vec3 a = s.vertices[size_t(t[0])], b = s.vertices[size_t(t[1])], c = s.vertices[size_t(t[2])];
+  return 0.5 * norm(cross(b - a, c - a));
+}
+
+double area_of(const TriangleSurface& s) {
+  double sum = 0;
+  for (const auto& t : s.triangles) sum += triangle_area(s, t);
+  return sum;
+}
+
+template <class M>
+M to_mesh(const TriangleSurface& s) {
+  M m;
+  std::vector<typename M::Vertex_index> v;
+  for (Vec3 p : s.vertices) v.push_back(m.add_vertex({p.x, p.y, p.z}));
+  for (const auto& t : s.triangles) m.add_face(v[size_t(t[0])], v[size_t(t[1])], v[size_t(t[2])]);
+  return m;
+}
+
+// The edges used by each number of triangles, with the triangles, for the checks below.
+using EdgeTriangles = std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>>;
+
+EdgeTriangles edge_triangles(const TriangleSurface& s) {
+  EdgeTriangles edges;
+  for (size_t t = 0; t < s.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = s.triangles[t][size_t(k)], b = s.triangles[t][size_t((k + 1) % 3)];
+      edges[{std::min(a, b), std::max(a, b)}].push_back(int32_t(t));
+    }
+  return edges;
+}
+
+// Finite, of positive area, edge-manifold, one fan at each vertex; each edge-connected piece
+// wound one way (a sheet has no outside: the first triangle of a piece decides), or refused.
+void check_and_orient(TriangleSurface& s, const std::string& name) {
+  auto& V = s.vertices;
+  auto& T = s.triangles;
+  if (T.empty()) bad(name, "no triangles");
+  for (size_t v = 0; v < V.size(); ++v)
+    if (!std::isfinite(V[v].x) || !std::isfinite(V[v].y) || !std::isfinite(V[v].z))
+      bad(name, fmt::format("vertex {} has a coordinate that is not a finite number", v));
+  for (size_t t = 0; t < T.size(); ++t) {
+    const auto [a, b, c] = T[t];
+    if (a == b || b == c || a == c ||
+        CGAL::collinear(Inexact::Point_3(V[a].x, V[a].y, V[a].z), Inexact::Point_3(V[b].x, V[b].y, V[b].z),
+                        Inexact::Point_3(V[c].x, V[c].y, V[c].z)))
+      bad(name, fmt::format("triangle {} has zero area, at {}", t, at(V[size_t(a)])));
+  }
+  const EdgeTriangles edges = edge_triangles(s);
+  for (const auto& [e, tris] : edges)
+    if (tris.size() > 2)
+      bad(name, fmt::format("the edge from {} to {} is shared by {} triangles (a sheet's edge may have one or two); "
+                            "split the sheet into sheets that meet along it",
+                            at(V[size_t(e.first)]), at(V[size_t(e.second)]), tris.size()));
+  // One fan of triangles around each vertex (joined across its edges).
+  UnionFind fans(3 * T.size());
+  auto corner = [&](int32_t t, int32_t v) { return 3 * t + (T[t][0] == v ? 0 : T[t][1] == v ? 1 : 2); };
+  for (const auto& [e, tris] : edges)
+    if (tris.size() == 2)
+      for (int32_t v : {e.first, e.second}) fans.unite(corner(tris[0], v), corner(tris[1], v));
+  std::vector<int32_t> fan_of(V.size(), -1);
+  for (size_t c = 0; c < 3 * T.size(); ++c) {
+    const int32_t v = T[c / 3][c % 3], fan = fans.find(int32_t(c));
+    if (fan_of[size_t(v)] < 0) fan_of[size_t(v)] = fan;
+    else if (fan_of[size_t(v)] != fan)
+      bad(name, fmt::format("at vertex {} {} its triangles make separate fans (the sheet touches itself at a point)", v,
+                            at(V[size_t(v)])));
+  }
+  // Winding: a triangle and its neighbour run their shared edge opposite ways.
+  std::vector<std::vector<std::pair<int32_t, bool>>> across(T.size());
+  for (const auto& [e, tris] : edges) {
+    if (tris.size() != 2) continue;
+    auto forward = [&](int32_t t) {
+      for (int k = 0; k < 3; ++k)
+        if (T[t][size_t(k)] == e.first && T[t][size_t((k + 1) % 3)] == e.second) return true;
+      return false;
+    };
+    const bool same = forward(tris[0]) == forward(tris[1]);
+    across[size_t(tris[0])].push_back({tris[1], same});
+    across[size_t(tris[1])].push_back({tris[0], same});
+  }
+  std::vector<int8_t> flip(T.size(), -1);
+  for (size_t start = 0; start < T.size(); ++start) {
+    if (flip[start] >= 0) continue;
+    flip[start] = 0;
+    std::vector<int32_t> stack{int32_t(start)};
+    while (!stack.empty()) {
+      const int32_t t = stack.back();
+      stack.pop_back();
+      for (const auto [u, same] : across[size_t(t)]) {
+        const int8_t want = int8_t(flip[size_t(t)] ^ int8_t(same));
+        if (flip[size_t(u)] < 0) flip[size_t(u)] = want, stack.push_back(u);
+        else if (flip[size_t(u)] != want)
+          bad(name, fmt::format("it cannot be wound one way (one-sided, like a Moebius strip; see triangles {} and {})",
+                                t, u));
+      }
+    }
+  }
+  for (size_t t = 0; t < T.size(); ++t)
+    if (flip[t]) std::swap(T[t][1], T[t][2]);
+  // Self-intersections, exact predicates.
+  std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
+  const Mesh m = to_mesh<Mesh>(s);
+  PMP::self_intersections(m, std::back_inserter(pairs));
+  if (!pairs.empty()) {
+    const auto [f, g] = pairs.front();
+    bad(name, fmt::format("it intersects itself: triangles {} and {} meet away from a shared edge or vertex, near {}",
+                          size_t(f), size_t(g), at(V[size_t(T[size_t(f)][0])])));
+  }
+}
+
+}  // namespace
+
+CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid) {
+  CrackSheet crack;
+  crack.name = name;
+  TriangleSurface s = sheet;
+  check_and_orient(s, name);
+  crack.input_area = area_of(s);
+
+  // The part inside the solid: CGAL clips the open sheet by the closed surface (exact), keeping
+  // what lies on the surface too, which is then refused below.
+  ExactMesh cut = to_mesh<ExactMesh>(s);
+  ExactMesh clipper = to_mesh<ExactMesh>(solid);
+  PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
+  crack.surface.vertices.clear(), crack.surface.triangles.clear();
+  std::vector<int32_t> id(cut.number_of_vertices() + cut.number_of_removed_vertices(), -1);
+  for (ExactMesh::Vertex_index v : cut.vertices()) {
+    const Exact::Point_3& p = cut.point(v);
+    id[size_t(v)] = int32_t(crack.surface.vertices.size());
+    crack.surface.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+  }
+  for (ExactMesh::Face_index f : cut.faces()) {
+    std::array<int32_t, 3> t{};
+    int k = 0;
+    for (ExactMesh::Vertex_index v : CGAL::vertices_around_face(cut.halfedge(f), cut)) t[size_t(k++)] = id[size_t(v)];
+    crack.surface.triangles.push_back(t);
+  }
+  crack.area = area_of(crack.surface);
+  if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
+    bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
+                          at(sheet.vertices.empty() ? Vec3{} : sheet.vertices[0])));
+  if (crack.area < crack.input_area * (1 - 1e-12))
+    for (Vec3 p : s.vertices) {
+      bool kept = false;
+      for (Vec3 q : crack.surface.vertices) kept |= q.x == p.x && q.y == p.y && q.z == p.z;
+      if (!kept) {
+        crack.clipped_at = p;
+        break;
+      }
+    }
+
+  // Where the clipped sheet touches the solid's surface: distances by an AABB tree over it.
+  const Mesh solid_mesh = to_mesh<Mesh>(solid);
+  using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Inexact, Primitive>>;
+  Tree tree(faces(solid_mesh).first, faces(solid_mesh).second, solid_mesh);
+  tree.accelerate_distance_queries();
+  Box b{solid.vertices[0], solid.vertices[0]};
+  for (Vec3 p : solid.vertices)
+    for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], p[a]), b.hi[a] = std::max(b.hi[a], p[a]);
+  const double tol = 1e-9 * b.diagonal();
+  auto on_solid = [&](Vec3 p) { return tree.squared_distance({p.x, p.y, p.z}) <= tol * tol; };
+  const auto& V = crack.surface.vertices;
+  for (const auto& t : crack.surface.triangles) {
+    const Vec3 centroid = (1.0 / 3) * (V[size_t(t[0])] + V[size_t(t[1])] + V[size_t(t[2])]);
+    if (on_solid(centroid) && on_solid(V[size_t(t[0])]) && on_solid(V[size_t(t[1])]) && on_solid(V[size_t(t[2])]))
+      bad(name, fmt::format("it lies on the solid's boundary near {}: a crack must be inside the part, not on its "
+                            "surface",
+                            at(centroid)));
+  }
+  for (const auto& [e, tris] : edge_triangles(crack.surface)) {
+    if (tris.size() != 1) continue;
+    const Vec3 a = V[size_t(e.first)], c = V[size_t(e.second)];
+    // Oriented as the triangle runs it, so that a front is a directed curve around side a.
+    const auto& t = crack.surface.triangles[size_t(tris[0])];
+    std::array<int32_t, 2> edge{e.first, e.second};
+    for (int k = 0; k < 3; ++k)
+      if (t[size_t(k)] == e.second && t[size_t((k + 1) % 3)] == e.first) edge = {e.second, e.first};
+    if (on_solid(a) && on_solid(c) && on_solid(0.5 * (a + c))) {
+      crack.on_boundary.push_back(edge);
+    } else {
+      crack.front.push_back(edge);
+      crack.front_length += norm(c - a);
+    }
+  }
+  return crack;
+}
+
+CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  TriangleSurface sheet;
+  if (ext == ".stl") sheet = read_stl(path, options.max_memory_bytes);
+  else if (ext == ".off" || ext == ".obj" || ext == ".ply") sheet = read_polygon_file(path, options.max_memory_bytes);
+  else
+    fail(ErrorKind::Usage, fmt::format("crack {}: unsupported format '{}' (froth reads STL, OFF, OBJ and PLY)", path, ext));
+  return crack_from_surface(sheet, std::filesystem::path(path).stem().string(), solid);
+}
+
+}  // namespace froth

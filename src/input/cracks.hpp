@@ -1,0 +1,38 @@
+// Cracks (issue 38): open sheets inside a solid, read and validated as the first step of cutting
+// them into the mesh (the paper's §2.2, non-manifold facets). A sheet is any triangle surface:
+// open (its free edges inside the solid are the crack front) or closed (a lens, no front). The
+// part that pokes out of the solid is clipped away (and reported); the rest is what the mesh
+// will be cut along.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "froth/domain.hpp"
+
+namespace froth {
+
+struct CrackSheet {
+  std::string name;         // the file's stem
+  TriangleSurface surface;  // inside the solid; each edge-connected piece wound one way (side a)
+  double input_area = 0;    // of the sheet as given
+  double area = 0;          // of the part inside the solid
+  // Edges used by one triangle: on the solid's boundary (where an edge or through crack meets it,
+  // clipped there) or inside it (the crack front), as vertex pairs of `surface`.
+  std::vector<std::array<int32_t, 2>> front, on_boundary;
+  double front_length = 0;
+  Vec3 clipped_at{NAN, NAN, NAN};  // a point of the part clipped away, if any
+};
+
+// Reads a sheet (STL, OBJ, OFF or PLY) and keeps its part inside `solid` (a validated domain's
+// closed surface, outward). Refused (Error InvalidInput, naming the defect and a point): a
+// triangle of zero area or a coordinate that is not finite, an edge of three or more triangles,
+// a vertex whose triangles make separate fans, a piece that cannot be wound one way, a sheet
+// that intersects itself, that lies on the solid's boundary, or that misses the solid.
+CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options = {});
+
+// The same for a sheet given as triangles (`name` for messages).
+CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid);
+
+}  // namespace froth
