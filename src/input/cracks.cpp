@@ -107,7 +107,9 @@ void check_and_orient(TriangleSurface& s, const std::string& name) {
   }
   // Winding: a triangle and its neighbour run their shared edge opposite ways.
   std::vector<std::vector<std::pair<int32_t, bool>>> across(T.size());
-  for (const auto& [e, tris] : edges) {
+  for (const auto& entry : edges) {  // (not a structured binding: clang 14 cannot capture one)
+    const auto& e = entry.first;
+    const std::vector<int32_t>& tris = entry.second;
     if (tris.size() != 2) continue;
     auto forward = [&](int32_t t) {
       for (int k = 0; k < 3; ++k)
@@ -126,7 +128,7 @@ void check_and_orient(TriangleSurface& s, const std::string& name) {
     while (!stack.empty()) {
       const int32_t t = stack.back();
       stack.pop_back();
-      for (const auto [u, same] : across[size_t(t)]) {
+      for (const auto& [u, same] : across[size_t(t)]) {
         const int8_t want = int8_t(flip[size_t(t)] ^ int8_t(same));
         if (flip[size_t(u)] < 0) flip[size_t(u)] = want, stack.push_back(u);
         else if (flip[size_t(u)] != want)
