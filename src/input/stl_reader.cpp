@@ -95,6 +95,13 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
 
 }  // namespace
 
+// A binary STL's triangle count (0 for a file too short to have one).
+uint32_t binary_count(const std::string& bytes) {
+  uint32_t n = 0;
+  if (bytes.size() >= 84) std::memcpy(&n, bytes.data() + 80, 4);
+  return n;
+}
+
 TriangleSurface read_stl(const std::filesystem::path& path, double max_memory_bytes) {
   // A binary STL holds exactly 84 + 50 n bytes for its n triangles: nothing past that is read.
   const std::string bytes = read_input_file(path, max_memory_bytes, [](std::string_view head) -> size_t {
@@ -115,9 +122,11 @@ TriangleSurface read_stl(const std::filesystem::path& path, double max_memory_by
   }
   size_t start = bytes.find_first_not_of(" \t\r\n");
   if (start != std::string::npos && bytes.compare(start, 5, "solid") == 0) return read_ascii(file, bytes);
+  const uint64_t count = binary_count(bytes), expected = 84 + 50 * count;
   fail(ErrorKind::InvalidInput,
-       fmt::format("{}: neither binary STL (size {} does not match its triangle count) nor ASCII STL", file,
-                   bytes.size()));
+       fmt::format("{}: neither binary STL (its triangle count {} makes {} bytes, but it holds {}) nor ASCII STL (it "
+                   "does not start with 'solid')",
+                   file, count, expected, bytes.size() > expected ? "more" : std::to_string(bytes.size())));
 }
 
 }  // namespace froth

@@ -115,7 +115,7 @@ class Reader {
   template <class T>
   std::vector<T> values(pugi::xml_node a, uint64_t count) const {
     const std::string type = a.attribute("type").as_string(), format = a.attribute("format").as_string("ascii");
-    const char* name = a.attribute("Name").as_string();
+    const char* name = a.attribute("Name").as_string("(unnamed)");
     std::vector<T> out;
     if (format == "ascii") {
       std::istringstream in(a.child_value());
