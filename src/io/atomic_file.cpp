@@ -144,9 +144,11 @@ void make_output_folder(const std::filesystem::path& folder) {
     if (p == p.root_path()) break;
   }
   for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
-    if (!std::filesystem::create_directory(*it, ec) && ec)
+    remember(*it, kFolderSlot);  // before it exists: a signal between the two must still find it
+    if (!std::filesystem::create_directory(*it, ec) && ec) {
+      forget(*it);
       fail(ErrorKind::Io, fmt::format("{}: cannot create the folder ({})", it->string(), ec.message()));
-    remember(*it, kFolderSlot);
+    }
     if (g_group) g_group->made_folder(*it);
     else forget(*it);  // (without a group the folder stays: a file is about to be renamed into it)
   }

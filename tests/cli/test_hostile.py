@@ -273,6 +273,19 @@ for sig in (signal.SIGINT, signal.SIGTERM):
     for f in left:
         os.remove(f)
 
+# A write that fails midway (here a file-size limit, as a full disk does) leaves no case folder.
+import resource  # noqa: E402
+
+
+def small_files():
+    signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+    resource.setrlimit(resource.RLIMIT_FSIZE, (100 << 10, 100 << 10))
+
+
+p = subprocess.run([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.05", "-o", "full/constant/polyMesh"], cwd=tmp,
+                   capture_output=True, text=True, preexec_fn=small_files)
+row("OpenFOAM case on a full disk", p, 4, "write failed", absent=["full"])
+
 # Signals while an OpenFOAM case is written: neither its files nor the folders made for them stay.
 for sig in (signal.SIGINT, signal.SIGTERM):
     proc = subprocess.Popen([FROTH, "mesh", "box:0,0,0,1,1,1", "-r", "0.012", "--no-quality", "-o",
