@@ -98,7 +98,10 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   MinSphere sphere(w.points.begin(), w.points.end());
   q.outradius = sphere.radius();
   const InscribedBall ball = largest_inscribed_ball(w.normals, w.offsets);
-  q.inradius = ball.ok ? ball.radius : 0;
+  // No ball (an empty kernel: the program's optimum is negative) is an inradius of 0, and a ball
+  // far below the cell's size (a kernel of one point, 1e-19 where the cell is 1) no ball either:
+  // its aspect ratio, 1e18, would otherwise enter the spread's mean as a finite figure.
+  q.inradius = ball.ok && ball.radius > 1e-12 * q.outradius ? ball.radius : 0;
   q.aspect = q.inradius > 0 ? q.outradius / q.inradius : INFINITY;
 
   // Each edge is used by two faces of a closed cell: pair them up.
