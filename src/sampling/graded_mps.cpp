@@ -88,6 +88,8 @@ class GradedSampler {
           open[k] = !covered(darts[k].p) && (!darts[k].boundary || d_.contains(darts[k].p));
         for (size_t k = 0; k < darts.size(); ++k)
           if (open[k] && !covered(darts[k].p)) add_seed(darts[k].p, h_.at(darts[k].p));
+        // Told after each round too (the same fraction): the caller may stop the run there.
+        if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level)));
         if (q + 1 < kRoundsPerLevel) {
           std::vector<uint8_t> done(active.size());
 #pragma omp parallel for schedule(dynamic, 1024)

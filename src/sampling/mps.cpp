@@ -22,6 +22,8 @@ Sample Sampler::run() {
       if (q > 0 || !thrown) thrown = throw_round(active, level, q);
       accept_round(*thrown);
       thrown.reset();
+      // Told after each round too (the same fraction): the caller may stop the run there.
+      if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active_) * std::pow(8.0, level)));
     }
     s_.stats.per_level.back().darts = s_.stats.darts - darts0;
     s_.stats.per_level.back().accepted = s_.seeds.size() - seeds0;

@@ -78,7 +78,7 @@ struct SamplingPartition {
 // A maximal r-disk sample of the domain, a pure function of (domain, r, seed). With a partition,
 // the seeds of the slab's window only (the owned ones are final; those in the halo are the ones
 // that were needed), the same as the serial sample's there; every rank must call it together.
-// `progress`, if set, is told after each level the fraction of the domain covered.
+// `progress`, if set, is told after each round of darts the fraction of the domain covered.
 Sample sample_maximal_poisson_disk(const Domain& domain, double r, uint64_t seed,
                                    SamplingPartition* partition = nullptr,
                                    const std::function<void(double)>& progress = {});

@@ -217,9 +217,11 @@ def test_ctrl_c_stops_a_long_run():
             "    froth.mesh('box:0,0,0,1,1,1', r=0.3)\n"
             "    print('interrupted')\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=os.environ)
-    time.sleep(2.5)  # past loading, inside sampling or cells
+    time.sleep(2)  # past loading, inside sampling or cells
     t0 = time.time()
     proc.send_signal(signal.SIGINT)
     out, _ = proc.communicate(timeout=60)
     assert out.strip() == "interrupted", out
-    assert time.time() - t0 < 5, f"stopped {time.time() - t0:.1f} s after Ctrl-C"
+    # Uninterrupted, the run goes on for 20 s more; interrupted, it stops within a sampling level
+    # or a chunk of cells (under a second on a quiet machine; 10 s leaves room for a busy one).
+    assert time.time() - t0 < 10, f"stopped {time.time() - t0:.1f} s after Ctrl-C"
