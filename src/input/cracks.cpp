@@ -14,6 +14,7 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 #include <fmt/format.h>
@@ -54,6 +55,24 @@ M to_mesh(const TriangleSurface& s) {
   for (Vec3 p : s.vertices) v.push_back(m.add_vertex({p.x, p.y, p.z}));
   for (const auto& t : s.triangles) m.add_face(v[size_t(t[0])], v[size_t(t[1])], v[size_t(t[2])]);
   return m;
+}
+
+// The mesh's triangles with its points rounded to the nearest doubles.
+TriangleSurface from_exact(const ExactMesh& m) {
+  TriangleSurface s;
+  std::vector<int32_t> id(m.number_of_vertices() + m.number_of_removed_vertices(), -1);
+  for (ExactMesh::Vertex_index v : m.vertices()) {
+    const Exact::Point_3& p = m.point(v);
+    id[size_t(v)] = int32_t(s.vertices.size());
+    s.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+  }
+  for (ExactMesh::Face_index f : m.faces()) {
+    std::array<int32_t, 3> t{};
+    int k = 0;
+    for (ExactMesh::Vertex_index v : CGAL::vertices_around_face(m.halfedge(f), m)) t[size_t(k++)] = id[size_t(v)];
+    s.triangles.push_back(t);
+  }
+  return s;
 }
 
 // The edges used by each number of triangles, with the triangles, for the checks below.
@@ -164,19 +183,7 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   ExactMesh cut = to_mesh<ExactMesh>(s);
   ExactMesh clipper = to_mesh<ExactMesh>(solid);
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
-  crack.surface.vertices.clear(), crack.surface.triangles.clear();
-  std::vector<int32_t> id(cut.number_of_vertices() + cut.number_of_removed_vertices(), -1);
-  for (ExactMesh::Vertex_index v : cut.vertices()) {
-    const Exact::Point_3& p = cut.point(v);
-    id[size_t(v)] = int32_t(crack.surface.vertices.size());
-    crack.surface.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
-  }
-  for (ExactMesh::Face_index f : cut.faces()) {
-    std::array<int32_t, 3> t{};
-    int k = 0;
-    for (ExactMesh::Vertex_index v : CGAL::vertices_around_face(cut.halfedge(f), cut)) t[size_t(k++)] = id[size_t(v)];
-    crack.surface.triangles.push_back(t);
-  }
+  crack.surface = from_exact(cut);
   crack.area = area_of(crack.surface);
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
@@ -237,6 +244,95 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
   else
     fail(ErrorKind::Usage, fmt::format("crack {}: unsupported format '{}' (froth reads STL, OFF, OBJ and PLY)", path, ext));
   return crack_from_surface(sheet, std::filesystem::path(path).stem().string(), solid);
+}
+
+void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
+  const size_t n = sheets.size();
+  if (n < 2) return;
+  std::vector<ExactMesh> mesh;
+  for (const CrackSheet& c : sheets) mesh.push_back(to_mesh<ExactMesh>(c.surface));
+  std::vector<uint8_t> changed(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (!PMP::do_intersect(mesh[i], mesh[j])) continue;
+      const size_t fi = mesh[i].number_of_faces(), fj = mesh[j].number_of_faces();
+      try {
+        PMP::corefine(mesh[i], mesh[j]);
+      } catch (const std::exception& e) {
+        fail(ErrorKind::InvalidInput,
+             fmt::format("cracks {} and {}: their crossing could not be found ({})", sheets[i].name, sheets[j].name, e.what()));
+      }
+      changed[i] |= mesh[i].number_of_faces() != fi, changed[j] |= mesh[j].number_of_faces() != fj;
+    }
+  // Each sheet's edges, as pairs of rounded points, to find the curves two sheets share.
+  using PointPair = std::pair<std::array<double, 3>, std::array<double, 3>>;
+  auto key = [](Vec3 a, Vec3 b) {
+    std::array<double, 3> p{a.x, a.y, a.z}, q{b.x, b.y, b.z};
+    return p < q ? PointPair{p, q} : PointPair{q, p};
+  };
+  std::vector<std::map<PointPair, std::array<int32_t, 2>>> edges(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (changed[i]) {
+      // The lines on the boundary keep their meaning (their edges may have been split); every
+      // other free edge is front, as before.
+      const TriangleSurface before = sheets[i].surface;
+      std::vector<std::array<Vec3, 2>> boundary;
+      for (const auto& e : sheets[i].on_boundary)
+        boundary.push_back({before.vertices[size_t(e[0])], before.vertices[size_t(e[1])]});
+      sheets[i].surface = from_exact(mesh[i]);
+      sheets[i].front.clear(), sheets[i].on_boundary.clear();
+      auto on_segment = [](Vec3 p, const std::array<Vec3, 2>& seg) {
+        const Vec3 d = seg[1] - seg[0];
+        const double t = dot(p - seg[0], d) / dot(d, d);
+        return t >= -1e-12 && t <= 1 + 1e-12 && norm2(seg[0] + t * d - p) <= 1e-24 * dot(d, d);
+      };
+      const TriangleSurface& S = sheets[i].surface;
+      for (const auto& entry : edge_triangles(S)) {
+        const auto& e = entry.first;
+        if (entry.second.size() != 1) continue;
+        const Vec3 mid = 0.5 * (S.vertices[size_t(e.first)] + S.vertices[size_t(e.second)]);
+        std::array<int32_t, 2> edge{e.first, e.second};
+        const auto& t = S.triangles[size_t(entry.second[0])];
+        for (int k = 0; k < 3; ++k)
+          if (t[size_t(k)] == e.second && t[size_t((k + 1) % 3)] == e.first) edge = {e.second, e.first};
+        bool on_boundary = false;
+        for (const auto& seg : boundary) on_boundary |= on_segment(mid, seg);
+        (on_boundary ? sheets[i].on_boundary : sheets[i].front).push_back(edge);
+      }
+    }
+    const TriangleSurface& S = sheets[i].surface;
+    for (const auto& [e, tris] : edge_triangles(S))
+      edges[i][key(S.vertices[size_t(e.first)], S.vertices[size_t(e.second)])] = {e.first, e.second};
+  }
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) {
+      if (i == j) continue;
+      for (const auto& [k, e] : edges[i])
+        if (edges[j].count(k)) sheets[i].on_sheets.push_back(e);
+    }
+  // Sheets overlapping in a plane share whole triangles after the corefinement.
+  std::map<std::array<std::array<double, 3>, 3>, size_t> first_sheet;
+  for (size_t i = 0; i < n; ++i)
+    for (const auto& t : sheets[i].surface.triangles) {
+      std::array<std::array<double, 3>, 3> corners;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 p = sheets[i].surface.vertices[size_t(t[size_t(k)])];
+        corners[size_t(k)] = {p.x, p.y, p.z};
+      }
+      std::sort(corners.begin(), corners.end());
+      const auto [it, added] = first_sheet.try_emplace(corners, i);
+      if (!added && it->second != i)
+        fail(ErrorKind::InvalidInput,
+             fmt::format("cracks {} and {} overlap in a plane near ({:.6g}, {:.6g}, {:.6g}): give the overlap once",
+                         sheets[it->second].name, sheets[i].name, corners[0][0], corners[0][1], corners[0][2]));
+    }
+  for (CrackSheet& c : sheets) {
+    std::sort(c.on_sheets.begin(), c.on_sheets.end());
+    c.on_sheets.erase(std::unique(c.on_sheets.begin(), c.on_sheets.end()), c.on_sheets.end());
+    const double area = area_of(c.surface);
+    if (std::abs(area - c.area) > 1e-9 * c.area)
+      fail(ErrorKind::Internal, fmt::format("crack {}: corefinement changed its area from {} to {}", c.name, c.area, area));
+  }
 }
 
 }  // namespace froth

@@ -21,6 +21,9 @@ struct CrackSheet {
   // Edges used by one triangle: on the solid's boundary (where an edge or through crack meets it,
   // clipped there) or inside it (the crack front), as vertex pairs of `surface`.
   std::vector<std::array<int32_t, 2>> front, on_boundary;
+  // Edges along which another sheet crosses this one (after conform_crack_sheets): curves of
+  // both, protected as a front is.
+  std::vector<std::array<int32_t, 2>> on_sheets;
   double front_length = 0;
   Vec3 clipped_at{NAN, NAN, NAN};  // a point of the part clipped away, if any
 };
@@ -34,5 +37,11 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
 
 // The same for a sheet given as triangles (`name` for messages).
 CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid);
+
+// Sheets that cross (a branching crack) made to share the curve where they cross: each is
+// corefined with every other it meets (CGAL, exact constructions; the new points rounded to
+// doubles alike in both), and the curve's edges listed in both sheets' `on_sheets`. Their areas
+// do not change. Sheets that overlap in a plane are refused (InvalidInput, naming both).
+void conform_crack_sheets(std::vector<CrackSheet>& sheets);
 
 }  // namespace froth

@@ -131,3 +131,43 @@ TEST(Cracks, ClippedByACavity) {
 
 }  // namespace
 }  // namespace froth
+
+namespace froth {
+namespace {
+
+TEST(Cracks, CrossingSheetsShareTheirCrossing) {
+  // A horizontal square and an upright one crossing it along x = 0.5, y from 0.3 to 0.7.
+  std::vector<CrackSheet> sheets;
+  sheets.push_back(crack_from_surface(square_sheet(0.2, 0.8, 0.2, 0.8, 0.5, 3), "flat", unit_box()));
+  TriangleSurface upright = square_sheet(0.3, 0.7, 0.3, 0.7, 0, 2);
+  for (Vec3& p : upright.vertices) p = {0.5, p.x, p.y};  // x = 0.5, y and z from 0.3 to 0.7
+  sheets.push_back(crack_from_surface(upright, "upright", unit_box()));
+  const double flat_area = sheets[0].area, upright_area = sheets[1].area;
+  conform_crack_sheets(sheets);
+  EXPECT_NEAR(sheets[0].area, flat_area, 1e-15);
+  EXPECT_NEAR(sheets[1].area, upright_area, 1e-15);
+  for (const CrackSheet& c : sheets) {
+    EXPECT_NEAR(length(c, c.on_sheets), 0.4, 1e-12) << c.name;
+    for (const auto& e : c.on_sheets)
+      for (int32_t v : e) {
+        EXPECT_EQ(c.surface.vertices[size_t(v)].x, 0.5);
+        EXPECT_EQ(c.surface.vertices[size_t(v)].z, 0.5);
+      }
+  }
+  EXPECT_NEAR(sheets[0].front_length, 2.4, 1e-12);
+  EXPECT_NEAR(length(sheets[0], sheets[0].front), 2.4, 1e-12);  // split edges still the front
+}
+
+TEST(Cracks, OverlappingSheetsAreRefused) {
+  std::vector<CrackSheet> sheets{crack_from_surface(square_sheet(0.2, 0.6, 0.2, 0.6, 0.5), "one", unit_box()),
+                                 crack_from_surface(square_sheet(0.4, 0.8, 0.4, 0.8, 0.5), "two", unit_box())};
+  try {
+    conform_crack_sheets(sheets);
+    ADD_FAILURE() << "overlapping sheets were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("overlap in a plane"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace froth
