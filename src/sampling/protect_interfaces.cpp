@@ -132,9 +132,13 @@ std::array<double, 2> interface_factors(double lipschitz) {
   return {largest_factor(facet, facet / std::sqrt(2.0), L) * (1 - 1e-9), facet};
 }
 
-ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed, const std::vector<Vec3>& prior,
-                                   double feature_angle, InterfaceProtectionStats* stats,
-                                   const std::function<double(Vec3)>& h, double lipschitz) {
+// Samples what is to be protected: a seed just off each corner, the curves in 1D with disks of
+// the curve factor, then the triangles in 2D with disks of the facet factor (the paper's §2.2
+// recipe, for interfaces now and crack sheets next), all keeping their disks from `prior`.
+ProtectionSeeds sample_facets_and_curves(std::vector<ProtectedTriangle> tris, std::vector<LinePiece> segments,
+                                         const std::vector<std::pair<Vec3, Vec3>>& corners, double r, uint64_t seed,
+                                         const std::vector<Vec3>& prior, double crumb, InterfaceProtectionStats* stats,
+                                         const std::function<double(Vec3)>& h, double lipschitz) {
   ProtectionSeeds out;
   // (Not a structured binding: clang 14 cannot capture one in the lambdas below.)
   const std::array<double, 2> factors = interface_factors(h ? lipschitz : 0);
@@ -145,13 +149,100 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
   auto curve_disk = [&](Vec3 p) { return h ? alpha_c * std::min(r, h(p)) : rc; };
   auto facet_disk = [&](Vec3 p) { return h ? alpha_f * std::min(r, h(p)) : rf; };
   const CounterRng rng(seed, RandomStream::Interfaces);
+  SeedHash hash(rf * (1 + 1e-12));  // the largest disk: alpha_f <= 1/sqrt(2) and h <= r
+  for (Vec3 p : prior) hash.add(p, facet_disk(p));
+  if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
+  auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
+    out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
+    hash.add(p, facet_disk(p));
+    if (kind == CellKind::InterfaceEdge)  // the curves are sampled before the facets
+      for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
+  };
+  for (Vec3 p : prior)
+    for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
+  // Corners: a seed each just off the vertex, on the given side (ties between mirror-symmetric
+  // corners stay undecidable otherwise, as for reflex corners).
+  for (const auto& [v, in] : corners) add(v + 1e-7 * r * in, CellKind::InterfaceEdge, Vec3{});
+  // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp); a dart
+  // on the uncovered part is outside every earlier disk, whatever their radii.
+  saturate_pieces(segments, rng, crumb, [&](size_t k, Vec3 p) { add(p, CellKind::InterfaceEdge, segments[k].inward); });
+  if (stats) stats->edge_seeds = out.points.size();
+  // Faces: maximal Poisson-disk sampling on the interface triangles with disks of r/sqrt(2)
+  // (Ebeida et al. 2012 in 2D): darts uniform by area over the sub-triangles not yet inside one
+  // disk, each kept if no earlier seed's disk holds it; then the sub-triangles left are split in
+  // four and the darts go on, until every sub-triangle is covered.
+  struct Sub {
+    std::array<Vec3, 3> p;
+    Vec3 inward;
+  };
+  std::vector<Sub> active;
+  auto longest = [](const std::array<Vec3, 3>& p) {
+    return std::max({norm(p[1] - p[0]), norm(p[2] - p[1]), norm(p[0] - p[2])});
+  };
+  auto split4 = [](const Sub& s, std::vector<Sub>& into) {
+    const Vec3 a = s.p[0], b = s.p[1], c = s.p[2];
+    const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+    into.push_back({{a, ab, ca}, s.inward}), into.push_back({{ab, b, bc}, s.inward});
+    into.push_back({{ca, bc, c}, s.inward}), into.push_back({{ab, bc, ca}, s.inward});
+  };
+  // Starting sub-triangles no longer than the disks' radius: finer ones only multiply the
+  // level-0 darts and cover tests.
+  for (const ProtectedTriangle& t : tris) {
+    std::vector<Sub> work{{t.p, t.inward}};
+    while (!work.empty()) {
+      Sub s = work.back();
+      work.pop_back();
+      if (longest(s.p) > rf) split4(s, work);
+      else active.push_back(s);
+    }
+  }
+  size_t faces = 0;
+  // A sub-triangle is done when one disk holds it, or when it is below 1e-6 r/sqrt(2) and each
+  // corner lies in some disk: where two circles cross, a point on both is covered by neither
+  // disk's interior alone, and the sub-triangles about it would be split for ever (maximal up to
+  // that size, far below anything the cells resolve).
+  auto done = [&](const Sub& s) {
+    if (hash.covers(s.p)) return true;
+    return longest(s.p) < 1e-6 * rf && hash.any_within(s.p[0], 1 + 1e-12) && hash.any_within(s.p[1], 1 + 1e-12) &&
+           hash.any_within(s.p[2], 1 + 1e-12);
+  };
+  // (Bounded: sub-triangles that no disk covers would otherwise grow fourfold a level.)
+  for (int level = 0; level < 30 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
+    std::erase_if(active, done);
+    if (active.empty()) break;
+    std::vector<double> cumulative(active.size());
+    double total = 0;
+    for (size_t k = 0; k < active.size(); ++k)
+      total += norm(cross(active[k].p[1] - active[k].p[0], active[k].p[2] - active[k].p[0])), cumulative[k] = total;
+    const size_t darts = 2 * active.size();
+    for (size_t dart = 0; dart < darts; ++dart) {
+      const auto w = rng.words(dart, uint64_t(level) + 1, 1, 0);
+      const double x = CounterRng::unit(w[0]) * total;
+      const size_t k = std::min(size_t(std::lower_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin()),
+                                active.size() - 1);
+      double u = CounterRng::unit(w[1]), v = CounterRng::unit(w[2]);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      const Sub& s = active[k];
+      const Vec3 p = s.p[0] + u * (s.p[1] - s.p[0]) + v * (s.p[2] - s.p[0]);
+      if (hash.any_within(p)) continue;
+      add(p, CellKind::InterfaceFace, s.inward);
+      ++faces;
+    }
+    std::erase_if(active, done);
+    std::vector<Sub> finer;
+    for (const Sub& s : active) split4(s, finer);
+    active.swap(finer);
+  }
+  if (stats) stats->face_seeds = faces, stats->uncovered = active.size();
+  return out;
+}
+
+ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed, const std::vector<Vec3>& prior,
+                                   double feature_angle, InterfaceProtectionStats* stats,
+                                   const std::function<double(Vec3)>& h, double lipschitz) {
   // The interface triangles, once each (from the region behind their facet's normal), with the
   // facet they are on; and their edges.
-  struct Tri {
-    std::array<Vec3, 3> p;
-    int32_t facet;
-  };
-  std::vector<Tri> tris;
+  std::vector<ProtectedTriangle> tris;  // inward: against the facet's normal, as the seeds' anchors go
   std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> facets_at_edge;  // all facets of all regions
   const double cos_feature = std::cos(feature_angle * M_PI / 180);
   for (size_t k = 0; k < set.size(); ++k) {
@@ -164,7 +255,8 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
         facets_at_edge[{std::min(a, b), std::max(a, b)}].push_back(f);
       }
       if (set.is_interface(f) && set.facet_sides[size_t(f)][0] == int32_t(k))
-        tris.push_back({{d.surface.vertices[v[0]], d.surface.vertices[v[1]], d.surface.vertices[v[2]]}, f});
+        tris.push_back({{d.surface.vertices[v[0]], d.surface.vertices[v[1]], d.surface.vertices[v[2]]},
+                        -1.0 * set.facet_planes[size_t(f)].normal});
     }
   }
   const std::vector<Vec3>& V = set.solids.empty() ? prior : set.solids[0].surface.vertices;
@@ -204,20 +296,9 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     segments.push_back({a, dir, len, in, {{0.0, len}}});
     ++curve_degree[edge.first], ++curve_degree[edge.second];
   }
-  SeedHash hash(rf * (1 + 1e-12));  // the largest disk: alpha_f <= 1/sqrt(2) and h <= r
-  for (Vec3 p : prior) hash.add(p, facet_disk(p));
-  if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
-  auto add = [&](Vec3 p, CellKind kind, Vec3 in) {
-    out.points.push_back(p), out.kinds.push_back(kind), out.inward.push_back(in);
-    hash.add(p, facet_disk(p));
-    if (kind == CellKind::InterfaceEdge)  // the curves are sampled before the facets
-      for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
-  };
-  for (Vec3 p : prior)
-    for (LinePiece& s : segments) remove_disk(s, p, curve_disk(p));
-  // Corners: ends of curves and vertices where more than two curve edges meet, a seed each just
-  // off the vertex inside a region (ties between mirror-symmetric corners stay undecidable
-  // otherwise, as for reflex corners).
+  // Corners: ends of curves and vertices where more than two curve edges meet, with a direction
+  // into a region.
+  std::vector<std::pair<Vec3, Vec3>> corners;
   for (const auto& [v, degree] : curve_degree) {
     if (degree == 2) continue;
     std::vector<Vec3> candidates;
@@ -229,81 +310,11 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     if (norm2(in) == 0)
       fail(ErrorKind::InvalidInput, fmt::format("found no direction into a region at the interface corner ({}, {}, {})",
                                                 V[v].x, V[v].y, V[v].z));
-    add(V[v] + 1e-7 * r * in, CellKind::InterfaceEdge, Vec3{});
+    corners.push_back({V[v], in});
   }
-  // Curves: 1D random sequential addition to saturation with disks of r/2 (protect.cpp); a dart
-  // on the uncovered part is outside every earlier disk, whatever their radii.
   const double crumb = 1e-12 * std::max(r, set.boundary.bounds.diagonal());
-  saturate_pieces(segments, rng, crumb, [&](size_t k, Vec3 p) { add(p, CellKind::InterfaceEdge, segments[k].inward); });
-  if (stats) stats->edge_seeds = out.points.size();
-  // Faces: maximal Poisson-disk sampling on the interface triangles with disks of r/sqrt(2)
-  // (Ebeida et al. 2012 in 2D): darts uniform by area over the sub-triangles not yet inside one
-  // disk, each kept if no earlier seed's disk holds it; then the sub-triangles left are split in
-  // four and the darts go on, until every sub-triangle is covered.
-  struct Sub {
-    std::array<Vec3, 3> p;
-    int32_t facet;
-  };
-  std::vector<Sub> active;
-  auto longest = [](const std::array<Vec3, 3>& p) {
-    return std::max({norm(p[1] - p[0]), norm(p[2] - p[1]), norm(p[0] - p[2])});
-  };
-  auto split4 = [](const Sub& s, std::vector<Sub>& into) {
-    const Vec3 a = s.p[0], b = s.p[1], c = s.p[2];
-    const Vec3 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
-    into.push_back({{a, ab, ca}, s.facet}), into.push_back({{ab, b, bc}, s.facet});
-    into.push_back({{ca, bc, c}, s.facet}), into.push_back({{ab, bc, ca}, s.facet});
-  };
-  // Starting sub-triangles no longer than the disks' radius: finer ones only multiply the
-  // level-0 darts and cover tests.
-  for (const Tri& t : tris) {
-    std::vector<Sub> work{{t.p, t.facet}};
-    while (!work.empty()) {
-      Sub s = work.back();
-      work.pop_back();
-      if (longest(s.p) > rf) split4(s, work);
-      else active.push_back(s);
-    }
-  }
-  size_t faces = 0;
-  // A sub-triangle is done when one disk holds it, or when it is below 1e-6 r/sqrt(2) and each
-  // corner lies in some disk: where two circles cross, a point on both is covered by neither
-  // disk's interior alone, and the sub-triangles about it would be split for ever (maximal up to
-  // that size, far below anything the cells resolve).
-  auto done = [&](const Sub& s) {
-    if (hash.covers(s.p)) return true;
-    return longest(s.p) < 1e-6 * rf && hash.any_within(s.p[0], 1 + 1e-12) && hash.any_within(s.p[1], 1 + 1e-12) &&
-           hash.any_within(s.p[2], 1 + 1e-12);
-  };
-  // (Bounded: sub-triangles that no disk covers would otherwise grow fourfold a level.)
-  for (int level = 0; level < 30 && !active.empty() && active.size() < (size_t(1) << 22); ++level) {
-    std::erase_if(active, done);
-    if (active.empty()) break;
-    std::vector<double> cumulative(active.size());
-    double total = 0;
-    for (size_t k = 0; k < active.size(); ++k)
-      total += norm(cross(active[k].p[1] - active[k].p[0], active[k].p[2] - active[k].p[0])), cumulative[k] = total;
-    const size_t darts = 2 * active.size();
-    for (size_t dart = 0; dart < darts; ++dart) {
-      const auto w = rng.words(dart, uint64_t(level) + 1, 1, 0);
-      const double x = CounterRng::unit(w[0]) * total;
-      const size_t k = std::min(size_t(std::lower_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin()),
-                                active.size() - 1);
-      double u = CounterRng::unit(w[1]), v = CounterRng::unit(w[2]);
-      if (u + v > 1) u = 1 - u, v = 1 - v;
-      const Sub& s = active[k];
-      const Vec3 p = s.p[0] + u * (s.p[1] - s.p[0]) + v * (s.p[2] - s.p[0]);
-      if (hash.any_within(p)) continue;
-      add(p, CellKind::InterfaceFace, -1.0 * set.facet_planes[size_t(s.facet)].normal);
-      ++faces;
-    }
-    std::erase_if(active, done);
-    std::vector<Sub> finer;
-    for (const Sub& s : active) split4(s, finer);
-    active.swap(finer);
-  }
-  if (stats) stats->face_seeds = faces, stats->uncovered = active.size();
-  return out;
+  return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior, crumb, stats, h,
+                                  lipschitz);
 }
 
 ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, uint64_t seed, SamplingStats& stats,

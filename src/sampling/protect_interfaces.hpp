@@ -13,6 +13,7 @@
 // the graded sampler), and free seeds keep h(p). The factors shrink from 1/2 and 1/sqrt(2) so
 // that the argument above survives h changing between neighbouring seeds (interface_factors).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -41,6 +42,21 @@ struct InterfaceProtectionStats {
 // b sqrt(1 - 2e) >= 1 + e, the largest such alpha_f. The same with facet seeds keeping
 // alpha_f h(c) from a curve seed c gives alpha_c, with b = sqrt(alpha_f^2 / alpha_c^2 - 1).
 std::array<double, 2> interface_factors(double lipschitz);
+
+// A triangle to sample, with the direction its seeds' anchors lie in (off the triangle).
+struct ProtectedTriangle {
+  std::array<Vec3, 3> p;
+  Vec3 inward;
+};
+
+// The sampling of protect_interfaces, for any triangles, curves (`segments`, their uncovered
+// parts the whole) and corners (a point and the direction its seed is put off it): corner seeds,
+// then 1D MPS of the curves with disks of alpha_c h, then 2D MPS of the triangles with disks of
+// alpha_f h, keeping their disks from `prior`. Gaps up to `crumb` are left on curves.
+ProtectionSeeds sample_facets_and_curves(std::vector<ProtectedTriangle> tris, std::vector<LinePiece> segments,
+                                         const std::vector<std::pair<Vec3, Vec3>>& corners, double r, uint64_t seed,
+                                         const std::vector<Vec3>& prior, double crumb, InterfaceProtectionStats* stats,
+                                         const std::function<double(Vec3)>& h = {}, double lipschitz = 0);
 
 // A pure function of (regions, r, seed, h). Seeds keep their disks (radius r/2 on curves and
 // r/sqrt(2) on facets, or the factors times h) from each other and from `prior` (the outer
