@@ -8,7 +8,7 @@
 
 namespace froth {
 
-enum class RandomStream : uint64_t { Sampling = 1, Ensemble = 2, Protection = 3, Graded = 4, Interfaces = 5 };
+enum class RandomStream : uint64_t { Sampling = 1, Ensemble = 2, Protection = 3, Graded = 4, Interfaces = 5, Cracks = 6 };
 
 class CounterRng {
  public:

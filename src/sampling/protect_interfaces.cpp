@@ -137,8 +137,9 @@ std::array<double, 2> interface_factors(double lipschitz) {
 // recipe, for interfaces now and crack sheets next), all keeping their disks from `prior`.
 ProtectionSeeds sample_facets_and_curves(std::vector<ProtectedTriangle> tris, std::vector<LinePiece> segments,
                                          const std::vector<std::pair<Vec3, Vec3>>& corners, double r, uint64_t seed,
-                                         const std::vector<Vec3>& prior, double crumb, InterfaceProtectionStats* stats,
-                                         const std::function<double(Vec3)>& h, double lipschitz) {
+                                         const std::vector<Vec3>& prior, double crumb, RandomStream stream,
+                                         InterfaceProtectionStats* stats, const std::function<double(Vec3)>& h,
+                                         double lipschitz) {
   ProtectionSeeds out;
   // (Not a structured binding: clang 14 cannot capture one in the lambdas below.)
   const std::array<double, 2> factors = interface_factors(h ? lipschitz : 0);
@@ -148,7 +149,7 @@ ProtectionSeeds sample_facets_and_curves(std::vector<ProtectedTriangle> tris, st
   const double rc = r / 2, rf = r / std::sqrt(2.0);
   auto curve_disk = [&](Vec3 p) { return h ? alpha_c * std::min(r, h(p)) : rc; };
   auto facet_disk = [&](Vec3 p) { return h ? alpha_f * std::min(r, h(p)) : rf; };
-  const CounterRng rng(seed, RandomStream::Interfaces);
+  const CounterRng rng(seed, stream);
   SeedHash hash(rf * (1 + 1e-12));  // the largest disk: alpha_f <= 1/sqrt(2) and h <= r
   for (Vec3 p : prior) hash.add(p, facet_disk(p));
   if (stats) stats->prior_on_curves = seeds_on(segments, prior, r);
@@ -313,8 +314,8 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
     corners.push_back({V[v], in});
   }
   const double crumb = 1e-12 * std::max(r, set.boundary.bounds.diagonal());
-  return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior, crumb, stats, h,
-                                  lipschitz);
+  return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior, crumb,
+                                  RandomStream::Interfaces, stats, h, lipschitz);
 }
 
 ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, uint64_t seed, SamplingStats& stats,

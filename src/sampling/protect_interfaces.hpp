@@ -20,6 +20,7 @@
 
 #include "froth/domain.hpp"
 #include "froth/mesh.hpp"
+#include "common/random.hpp"
 #include "sampling/protect.hpp"
 
 namespace froth {
@@ -52,11 +53,13 @@ struct ProtectedTriangle {
 // The sampling of protect_interfaces, for any triangles, curves (`segments`, their uncovered
 // parts the whole) and corners (a point and the direction its seed is put off it): corner seeds,
 // then 1D MPS of the curves with disks of alpha_c h, then 2D MPS of the triangles with disks of
-// alpha_f h, keeping their disks from `prior`. Gaps up to `crumb` are left on curves.
+// alpha_f h, keeping their disks from `prior`. Gaps up to `crumb` are left on curves. The darts
+// come from `stream` of the seed, one stream per kind of feature.
 ProtectionSeeds sample_facets_and_curves(std::vector<ProtectedTriangle> tris, std::vector<LinePiece> segments,
                                          const std::vector<std::pair<Vec3, Vec3>>& corners, double r, uint64_t seed,
-                                         const std::vector<Vec3>& prior, double crumb, InterfaceProtectionStats* stats,
-                                         const std::function<double(Vec3)>& h = {}, double lipschitz = 0);
+                                         const std::vector<Vec3>& prior, double crumb, RandomStream stream,
+                                         InterfaceProtectionStats* stats, const std::function<double(Vec3)>& h = {},
+                                         double lipschitz = 0);
 
 // A pure function of (regions, r, seed, h). Seeds keep their disks (radius r/2 on curves and
 // r/sqrt(2) on facets, or the factors times h) from each other and from `prior` (the outer

@@ -1,0 +1,68 @@
+#include "sampling/protect_cracks.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "common/random.hpp"
+
+namespace froth {
+namespace {
+
+Vec3 normal_of(const TriangleSurface& s, const std::array<int32_t, 3>& t) {
+  const Vec3 n = cross(s.vertices[size_t(t[1])] - s.vertices[size_t(t[0])], s.vertices[size_t(t[2])] - s.vertices[size_t(t[0])]);
+  return (1 / norm(n)) * n;
+}
+
+}  // namespace
+
+ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, uint64_t seed,
+                               const std::vector<Vec3>& prior, InterfaceProtectionStats* stats) {
+  std::vector<ProtectedTriangle> tris;
+  std::vector<LinePiece> segments;
+  // Curve edges by their rounded end points, once each (a crossing is listed by both sheets),
+  // with the normal of a sheet along them; and each curve vertex's degree.
+  using Point = std::array<double, 3>;
+  std::map<std::pair<Point, Point>, Vec3> curve_edges;
+  std::map<Point, int> degree;
+  double diagonal = r;
+  for (const CrackSheet& c : sheets) {
+    const TriangleSurface& S = c.surface;
+    // Each vertex's normal: its first triangle's (the side a of the piece, wound one way).
+    std::vector<Vec3> vertex_normal(S.vertices.size());
+    for (const auto& t : S.triangles) {
+      const Vec3 n = normal_of(S, t);
+      tris.push_back({{S.vertices[size_t(t[0])], S.vertices[size_t(t[1])], S.vertices[size_t(t[2])]}, n});
+      for (int32_t v : t)
+        if (norm2(vertex_normal[size_t(v)]) == 0) vertex_normal[size_t(v)] = n;
+    }
+    for (const auto* list : {&c.front, &c.on_boundary, &c.on_sheets})
+      for (const auto& e : *list) {
+        const Vec3 a = S.vertices[size_t(e[0])], b = S.vertices[size_t(e[1])];
+        Point pa{a.x, a.y, a.z}, pb{b.x, b.y, b.z};
+        if (pb < pa) std::swap(pa, pb);
+        if (curve_edges.try_emplace({pa, pb}, vertex_normal[size_t(e[0])]).second) ++degree[pa], ++degree[pb];
+      }
+    for (Vec3 p : S.vertices) diagonal = std::max({diagonal, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  }
+  for (const auto& [edge, n] : curve_edges) {
+    const Vec3 a{edge.first[0], edge.first[1], edge.first[2]}, b{edge.second[0], edge.second[1], edge.second[2]};
+    const double len = norm(b - a);
+    segments.push_back({a, (1 / len) * (b - a), len, n, {{0.0, len}}});
+  }
+  // Corners: the ends of open curves and the points where more than two curve edges meet (the
+  // front meeting the boundary, a crossing's ends), a seed each on side a.
+  std::vector<std::pair<Vec3, Vec3>> corners;
+  for (const auto& [p, d] : degree) {
+    if (d == 2) continue;
+    Vec3 n{};
+    for (const auto& [edge, normal] : curve_edges)
+      if (edge.first == p || edge.second == p) n = normal;
+    corners.push_back({{p[0], p[1], p[2]}, n});
+  }
+  return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior,
+                                  1e-12 * std::max(r, diagonal), RandomStream::Cracks, stats);
+}
+
+}  // namespace froth
