@@ -87,9 +87,9 @@ struct CellClipper::Scratch {
   std::vector<Vec3> pts;
   std::vector<Names> keys;
   std::vector<int32_t> table;
-  std::vector<std::vector<Edge>> on_face;
+  std::vector<std::vector<DirectedEdge>> on_face;
   std::vector<std::pair<uint64_t, int32_t>> crossings;
-  std::vector<std::pair<int32_t, Edge>> border;
+  std::vector<std::pair<int32_t, DirectedEdge>> border;
   std::vector<PolyVertex> poly, next;
   std::vector<Names> vnames;
   struct VEdge {
@@ -103,7 +103,7 @@ struct CellClipper::Scratch {
   std::vector<int8_t> status;
   std::vector<int32_t> along, used_map;
   Loops faces, loops;
-  std::vector<Edge> segs, plane_edges, kept;
+  std::vector<DirectedEdge> segs, plane_edges, kept;
   std::vector<uint64_t> all;  // directed_edge_key of each face edge
   std::vector<int32_t> chain_leaving;
   std::vector<uint8_t> chain_used;
@@ -130,7 +130,7 @@ struct CellClipper::Scratch {
     return int32_t(pts.size() - 1);
   }
   // Loops chained in the plane of normal n; false if one does not close.
-  bool chain(const std::vector<Edge>& edges, Vec3 n) {
+  bool chain(const std::vector<DirectedEdge>& edges, Vec3 n) {
     return chain_loops(edges, pts.size(), loops, chain_leaving, chain_used, pts, n);
   }
 };
@@ -380,7 +380,7 @@ std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
   w.faces.clear(), c.out.face_gen_.clear(), c.out.face_loop_.clear();
   const FaceLoops faces{w.faces, c.out.face_gen_, c.out.face_loop_};
   const double negligible = tol::negligible_loop_area(c.half);
-  std::vector<Edge>& segs = w.segs;
+  std::vector<DirectedEdge>& segs = w.segs;
   for (size_t f = 0; f < c.nf; ++f) {
     const int32_t g = cell.face_generator(f);
     segs.assign(w.on_face[f].begin(), w.on_face[f].end());
@@ -427,8 +427,8 @@ std::optional<CellClipper::Result> CellClipper::add_border_faces(const Call& c) 
     w.plane_edges.clear();
     for (; at < border.size() && border[at].first == facet; ++at) w.plane_edges.push_back(border[at].second);
     w.kept.clear();
-    for (const Edge& e : w.plane_edges)
-      if (!std::binary_search(w.plane_edges.begin(), w.plane_edges.end(), Edge{e.to, e.from})) w.kept.push_back(e);
+    for (const DirectedEdge& e : w.plane_edges)
+      if (!std::binary_search(w.plane_edges.begin(), w.plane_edges.end(), DirectedEdge{e.to, e.from})) w.kept.push_back(e);
     if (w.kept.empty()) continue;
     const Vec3 n = domain_.planes[-facet - 1].normal;
     if (!w.chain(w.kept, n))

@@ -20,7 +20,7 @@ Point2 in_plane(Vec3 p, Vec3 n) {
 // at a pinch the loop that arrived along one of the region's wedges leaves along the other side
 // of that wedge: the leaving edge first met turning clockwise from the way back. Loops then
 // touch at the pinch instead of crossing there, and the same loops come out for either normal.
-bool chain_pinched_loops(const std::vector<Edge>& edges, const std::vector<Vec3>& pts, Vec3 n, Loops& loops) {
+bool chain_pinched_loops(const std::vector<DirectedEdge>& edges, const std::vector<Vec3>& pts, Vec3 n, Loops& loops) {
   loops.clear();
   std::vector<size_t> order(edges.size());
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
@@ -85,7 +85,7 @@ Vec3 loop_area(const std::vector<Vec3>& pts, std::span<const int32_t> loop) {
   return 0.5 * a;
 }
 
-bool chain_loops(const std::vector<Edge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
+bool chain_loops(const std::vector<DirectedEdge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
                  std::vector<uint8_t>& used, const std::vector<Vec3>& pts, Vec3 n) {
   loops.clear();
   if (leaving.size() < points) leaving.resize(points, -1);

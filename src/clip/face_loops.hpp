@@ -10,9 +10,9 @@
 
 namespace froth {
 
-struct Edge {
+struct DirectedEdge {
   int32_t from, to;
-  bool operator<(const Edge& o) const { return from != o.from ? from < o.from : to < o.to; }
+  bool operator<(const DirectedEdge& o) const { return from != o.from ? from < o.from : to < o.to; }
 };
 
 // Closed loops of point ids, flat: loop k is ids[begin[k] .. begin[k + 1]).
@@ -31,7 +31,7 @@ Vec3 loop_area(const std::vector<Vec3>& pts, std::span<const int32_t> loop);
 // first of its edges in `edges`); false if a chain does not close. `leaving` (the edge leaving
 // each point, -1 if none: all -1 between calls) and `used` are scratch. A point with several
 // edges leaving it (a pinch) is chained in the plane of normal n.
-bool chain_loops(const std::vector<Edge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
+bool chain_loops(const std::vector<DirectedEdge>& edges, size_t points, Loops& loops, std::vector<int32_t>& leaving,
                  std::vector<uint8_t>& used, const std::vector<Vec3>& pts, Vec3 n);
 
 // A cell's faces as they are built: loops of point ids, each with its generator and its kind
