@@ -75,6 +75,19 @@ std::vector<double> dihedral_angles(const PolyMesh& m, size_t c) {
   return out;
 }
 
+TriangleSurface square_sheet(double x0, double x1, double y0, double y1, double z, int n) {
+  TriangleSurface s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.vertices.push_back({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n, z});
+  auto id = [&](int i, int j) { return int32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return s;
+}
+
 PolyMesh mesh_of(const Domain& d, double r, uint64_t seed, int threads, RunReport* run) {
   MeshOptions o;
   o.r = r;

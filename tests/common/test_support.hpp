@@ -20,6 +20,10 @@ double face_area(const PolyMesh& m, int64_t f);  // Newell
 // Interior dihedral angles (degrees) of cell c between faces sharing an edge.
 std::vector<double> dihedral_angles(const PolyMesh& m, size_t c);
 
+// A square sheet [x0, x1] x [y0, y1] at height z, split into n x n squares of two triangles
+// each, wound counter-clockwise seen from +z (the crack tests' sheets).
+TriangleSurface square_sheet(double x0, double x1, double y0, double y1, double z, int n);
+
 // Runs the whole pipeline with `threads` threads.
 PolyMesh mesh_of(const Domain& d, double r, uint64_t seed, int threads, RunReport* run = nullptr);
 

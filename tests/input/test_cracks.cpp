@@ -7,6 +7,7 @@
 
 #include "froth/domain.hpp"
 #include "froth/error.hpp"
+#include "common/test_support.hpp"
 #include "input/cracks.hpp"
 
 namespace froth {
@@ -14,18 +15,8 @@ namespace {
 
 TriangleSurface unit_box() { return parse_box_spec("box:0,0,0,1,1,1").surface; }
 
-// A square sheet [x0, x1] x [y0, y1] at height z, split into n x n squares of two triangles.
 TriangleSurface square_sheet(double x0, double x1, double y0, double y1, double z, int n = 3) {
-  TriangleSurface s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.vertices.push_back({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n, z});
-  auto id = [&](int i, int j) { return int32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return s;
+  return test::square_sheet(x0, x1, y0, y1, z, n);
 }
 
 double length(const CrackSheet& c, const std::vector<std::array<int32_t, 2>>& edges) {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/random.hpp"
+#include "common/test_support.hpp"
 #include "froth/domain.hpp"
 #include "input/cracks.hpp"
 #include "sampling/protect_cracks.hpp"
@@ -13,18 +14,7 @@
 namespace froth {
 namespace {
 
-TriangleSurface square(double x0, double x1, double y0, double y1, double z, int n) {
-  TriangleSurface s;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.vertices.push_back({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n, z});
-  auto id = [&](int i, int j) { return int32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      s.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      s.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return s;
-}
+using test::square_sheet;
 
 // Checks the disks, the coverage of the sheets by a grid of points, and that seeds lie on them.
 void check_protection(const std::vector<CrackSheet>& sheets, double r, uint64_t seed) {
@@ -78,13 +68,13 @@ void check_protection(const std::vector<CrackSheet>& sheets, double r, uint64_t 
 TEST(ProtectCracks, PennyCrackIsCoveredWithItsDisksEmpty) {
   const TriangleSurface box = parse_box_spec("box:0,0,0,1,1,1").surface;
   for (uint64_t seed : {1u, 2u})
-    check_protection({crack_from_surface(square(0.2, 0.8, 0.25, 0.75, 0.5, 4), "penny", box)}, 0.1, seed);
+    check_protection({crack_from_surface(square_sheet(0.2, 0.8, 0.25, 0.75, 0.5, 4), "penny", box)}, 0.1, seed);
 }
 
 TEST(ProtectCracks, CrossingSheetsAreCoveredAndTheirCrossingIsACurve) {
   const TriangleSurface box = parse_box_spec("box:0,0,0,1,1,1").surface;
-  std::vector<CrackSheet> sheets{crack_from_surface(square(0.2, 0.8, 0.2, 0.8, 0.5, 3), "flat", box)};
-  TriangleSurface upright = square(0.3, 0.7, 0.3, 0.7, 0, 2);
+  std::vector<CrackSheet> sheets{crack_from_surface(square_sheet(0.2, 0.8, 0.2, 0.8, 0.5, 3), "flat", box)};
+  TriangleSurface upright = square_sheet(0.3, 0.7, 0.3, 0.7, 0, 2);
   for (Vec3& p : upright.vertices) p = {0.5, p.x, p.y};
   sheets.push_back(crack_from_surface(upright, "upright", box));
   conform_crack_sheets(sheets);
