@@ -1,13 +1,10 @@
 // froth mesh: one mesh of a part, by one process or (--partition) over all MPI ranks.
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
-#include <optional>
 
 #include <omp.h>
 #ifdef FROTH_MPI
