@@ -1,5 +1,4 @@
 // froth mesh: one mesh of a part, by one process or (--partition) over all MPI ranks.
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
