@@ -88,6 +88,31 @@ EdgeTriangles edge_triangles(const TriangleSurface& s) {
   return edges;
 }
 
+// The sheet's free edges (of one triangle), each oriented as its triangle runs it (so that a
+// front is a directed curve around side a), put on the boundary where `on_boundary` says and on
+// the front otherwise; the front's length summed.
+template <class OnBoundary>
+void sort_free_edges(CrackSheet& c, OnBoundary&& on_boundary) {
+  c.front.clear(), c.on_boundary.clear();
+  c.front_length = 0;
+  const TriangleSurface& S = c.surface;
+  for (const auto& entry : edge_triangles(S)) {  // (not a structured binding: clang 14 cannot capture one)
+    if (entry.second.size() != 1) continue;
+    const int32_t u = entry.first.first, v = entry.first.second;
+    const auto& t = S.triangles[size_t(entry.second[0])];
+    std::array<int32_t, 2> edge{u, v};
+    for (int k = 0; k < 3; ++k)
+      if (t[size_t(k)] == v && t[size_t((k + 1) % 3)] == u) edge = {v, u};
+    const Vec3 a = S.vertices[size_t(u)], b = S.vertices[size_t(v)];
+    if (on_boundary(a, b)) {
+      c.on_boundary.push_back(edge);
+    } else {
+      c.front.push_back(edge);
+      c.front_length += norm(b - a);
+    }
+  }
+}
+
 // Finite, of positive area, edge-manifold, one fan at each vertex; each edge-connected piece
 // wound one way (a sheet has no outside: the first triangle of a piece decides), or refused.
 void check_and_orient(TriangleSurface& s, const std::string& name) {
@@ -188,15 +213,16 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
                           at(sheet.vertices.empty() ? Vec3{} : sheet.vertices[0])));
-  if (crack.area < crack.input_area * (1 - 1e-12))
-    for (Vec3 p : s.vertices) {
-      bool kept = false;
-      for (Vec3 q : crack.surface.vertices) kept |= q.x == p.x && q.y == p.y && q.z == p.z;
-      if (!kept) {
+  if (crack.area < crack.input_area * (1 - 1e-12)) {  // a vertex of the sheet the clip did not keep
+    std::vector<std::array<double, 3>> kept;
+    for (Vec3 q : crack.surface.vertices) kept.push_back({q.x, q.y, q.z});
+    std::sort(kept.begin(), kept.end());
+    for (Vec3 p : s.vertices)
+      if (!std::binary_search(kept.begin(), kept.end(), std::array<double, 3>{p.x, p.y, p.z})) {
         crack.clipped_at = p;
         break;
       }
-    }
+  }
 
   // Where the clipped sheet touches the solid's surface: distances by an AABB tree over it.
   const Mesh solid_mesh = to_mesh<Mesh>(solid);
@@ -217,21 +243,7 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
                             "surface",
                             at(centroid)));
   }
-  for (const auto& [e, tris] : edge_triangles(crack.surface)) {
-    if (tris.size() != 1) continue;
-    const Vec3 a = V[size_t(e.first)], c = V[size_t(e.second)];
-    // Oriented as the triangle runs it, so that a front is a directed curve around side a.
-    const auto& t = crack.surface.triangles[size_t(tris[0])];
-    std::array<int32_t, 2> edge{e.first, e.second};
-    for (int k = 0; k < 3; ++k)
-      if (t[size_t(k)] == e.second && t[size_t((k + 1) % 3)] == e.first) edge = {e.second, e.first};
-    if (on_solid(a) && on_solid(c) && on_solid(0.5 * (a + c))) {
-      crack.on_boundary.push_back(edge);
-    } else {
-      crack.front.push_back(edge);
-      crack.front_length += norm(c - a);
-    }
-  }
+  sort_free_edges(crack, [&](Vec3 a, Vec3 c) { return on_solid(a) && on_solid(c) && on_solid(0.5 * (a + c)); });
   return crack;
 }
 
@@ -280,25 +292,16 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
       for (const auto& e : sheets[i].on_boundary)
         boundary.push_back({before.vertices[size_t(e[0])], before.vertices[size_t(e[1])]});
       sheets[i].surface = from_exact(mesh[i]);
-      sheets[i].front.clear(), sheets[i].on_boundary.clear();
       auto on_segment = [](Vec3 p, const std::array<Vec3, 2>& seg) {
         const Vec3 d = seg[1] - seg[0];
         const double t = dot(p - seg[0], d) / dot(d, d);
         return t >= -1e-12 && t <= 1 + 1e-12 && norm2(seg[0] + t * d - p) <= 1e-24 * dot(d, d);
       };
-      const TriangleSurface& S = sheets[i].surface;
-      for (const auto& entry : edge_triangles(S)) {
-        const auto& e = entry.first;
-        if (entry.second.size() != 1) continue;
-        const Vec3 mid = 0.5 * (S.vertices[size_t(e.first)] + S.vertices[size_t(e.second)]);
-        std::array<int32_t, 2> edge{e.first, e.second};
-        const auto& t = S.triangles[size_t(entry.second[0])];
-        for (int k = 0; k < 3; ++k)
-          if (t[size_t(k)] == e.second && t[size_t((k + 1) % 3)] == e.first) edge = {e.second, e.first};
-        bool on_boundary = false;
-        for (const auto& seg : boundary) on_boundary |= on_segment(mid, seg);
-        (on_boundary ? sheets[i].on_boundary : sheets[i].front).push_back(edge);
-      }
+      sort_free_edges(sheets[i], [&](Vec3 a, Vec3 b) {
+        for (const auto& seg : boundary)
+          if (on_segment(0.5 * (a + b), seg)) return true;
+        return false;
+      });
     }
     const TriangleSurface& S = sheets[i].surface;
     for (const auto& [e, tris] : edge_triangles(S))

@@ -93,36 +93,30 @@ TriangleSurface read_ascii(const std::string& file, const std::string& bytes) {
   return s;
 }
 
-}  // namespace
-
 // A binary STL's triangle count (0 for a file too short to have one).
-uint32_t binary_count(const std::string& bytes) {
+uint32_t binary_count(std::string_view bytes) {
   uint32_t n = 0;
   if (bytes.size() >= 84) std::memcpy(&n, bytes.data() + 80, 4);
   return n;
 }
+
+}  // namespace
 
 TriangleSurface read_stl(const std::filesystem::path& path, double max_memory_bytes) {
   // A binary STL holds exactly 84 + 50 n bytes for its n triangles: nothing past that is read.
   const std::string bytes = read_input_file(path, max_memory_bytes, [](std::string_view head) -> size_t {
     const size_t start = head.find_first_not_of(" \t\r\n");
     if (head.size() < 84 || (start != std::string_view::npos && head.compare(start, 5, "solid") == 0)) return SIZE_MAX;
-    uint32_t n;
-    std::memcpy(&n, head.data() + 80, 4);
-    return 84 + size_t(n) * 50;
+    return 84 + size_t(binary_count(head)) * 50;
   });
   const std::string file = path.string();
-  if (bytes.size() >= 84) {
-    uint32_t n;
-    std::memcpy(&n, bytes.data() + 80, 4);
-    if (bytes.size() == 84 + size_t(n) * 50) {
-      if (n == 0) fail(ErrorKind::InvalidInput, fmt::format("{}: binary STL with no triangles", file));
-      return read_binary(file, bytes);
-    }
+  const uint64_t count = binary_count(bytes), expected = 84 + 50 * count;
+  if (bytes.size() == expected) {
+    if (count == 0) fail(ErrorKind::InvalidInput, fmt::format("{}: binary STL with no triangles", file));
+    return read_binary(file, bytes);
   }
   size_t start = bytes.find_first_not_of(" \t\r\n");
   if (start != std::string::npos && bytes.compare(start, 5, "solid") == 0) return read_ascii(file, bytes);
-  const uint64_t count = binary_count(bytes), expected = 84 + 50 * count;
   fail(ErrorKind::InvalidInput,
        fmt::format("{}: neither binary STL (its triangle count {} makes {} bytes, but it holds {}) nor ASCII STL (it "
                    "does not start with 'solid')",

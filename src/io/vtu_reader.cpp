@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
@@ -140,6 +141,14 @@ class Reader {
   template <class T>
   std::vector<T> field_values(pugi::xml_node a) const {
     return values<T>(a, a.attribute("NumberOfTuples").as_ullong(1) * a.attribute("NumberOfComponents").as_ullong(1));
+  }
+
+  // A field data array of one number (froth's r, weld, grading options), if there is one.
+  std::optional<double> scalar_field(const char* name) const {
+    const pugi::xml_node a = field(name);
+    if (!a) return std::nullopt;
+    const std::vector<double> v = field_values<double>(a);
+    return v.size() == 1 ? std::optional<double>(v[0]) : std::nullopt;
   }
 
  private:
@@ -419,10 +428,7 @@ PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded) {
     }
   }
   // froth's r and graded radii, so that the bounds are judged as in the run (quality.hpp).
-  if (auto r = rd.field("r")) {
-    const std::vector<double> v = rd.field_values<double>(r);
-    if (v.size() == 1 && v[0] > 0) m.r = v[0];
-  }
+  if (const auto r = rd.scalar_field("r"); r && *r > 0) m.r = *r;
   // froth's volumes and centres, as written (a solver's formats carry them on).
   if (auto volume = rd.array("CellData", "volume", false)) {
     std::vector<double> v = rd.values<double>(volume, nc);
@@ -472,21 +478,12 @@ PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded) {
   if (recorded) {
     recorded->r = m.r;
     recorded->seed = m.random_seed.value_or(0);
-    if (auto weld = rd.field("weld")) {
-      const std::vector<double> v = rd.field_values<double>(weld);
-      if (v.size() == 1 && v[0] >= 0) recorded->weld = v[0];
-    }
-    if (auto grade = rd.field("grade")) {
-      const std::vector<double> on = rd.field_values<double>(grade);
-      recorded->grade = on.size() == 1 && on[0] != 0;
-      const auto one = [&](const char* name, double fallback) {
-        const pugi::xml_node a = rd.field(name);
-        const std::vector<double> v = a ? rd.field_values<double>(a) : std::vector<double>{};
-        return v.size() == 1 ? v[0] : fallback;
-      };
-      recorded->sizing.min_r = one("min_r", m.r);
+    if (const auto weld = rd.scalar_field("weld"); weld && *weld >= 0) recorded->weld = *weld;
+    if (rd.field("grade")) {
+      recorded->grade = rd.scalar_field("grade").value_or(0) != 0;
+      recorded->sizing.min_r = rd.scalar_field("min_r").value_or(m.r);
       recorded->sizing.graded = recorded->sizing.min_r < m.r;
-      recorded->grading = one("max_grading", recorded->grading);
+      recorded->grading = rd.scalar_field("max_grading").value_or(recorded->grading);
     }
   }
   m.kinds.assign(nc, CellKind::Interior);

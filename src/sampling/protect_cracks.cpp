@@ -22,11 +22,11 @@ ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, 
   std::vector<ProtectedTriangle> tris;
   std::vector<LinePiece> segments;
   // Curve edges by their rounded end points, once each (a crossing is listed by both sheets),
-  // with the normal of a sheet along them; and each curve vertex's degree.
+  // with the normal of a sheet along them; and each curve vertex's degree, with such a normal.
   using Point = std::array<double, 3>;
   std::map<std::pair<Point, Point>, Vec3> curve_edges;
-  std::map<Point, int> degree;
-  double diagonal = r;
+  std::map<Point, std::pair<int, Vec3>> degree;
+  double extent = r;  // the largest coordinate, for the curves' round-off gaps
   for (const CrackSheet& c : sheets) {
     const TriangleSurface& S = c.surface;
     // Each vertex's normal: its first triangle's (the side a of the piece, wound one way).
@@ -42,9 +42,14 @@ ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, 
         const Vec3 a = S.vertices[size_t(e[0])], b = S.vertices[size_t(e[1])];
         Point pa{a.x, a.y, a.z}, pb{b.x, b.y, b.z};
         if (pb < pa) std::swap(pa, pb);
-        if (curve_edges.try_emplace({pa, pb}, vertex_normal[size_t(e[0])]).second) ++degree[pa], ++degree[pb];
+        const Vec3 n = vertex_normal[size_t(e[0])];
+        if (curve_edges.try_emplace({pa, pb}, n).second)
+          for (const Point& q : {pa, pb}) {
+            auto& [count, normal] = degree[q];
+            ++count, normal = n;
+          }
       }
-    for (Vec3 p : S.vertices) diagonal = std::max({diagonal, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    for (Vec3 p : S.vertices) extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
   }
   for (const auto& [edge, n] : curve_edges) {
     const Vec3 a{edge.first[0], edge.first[1], edge.first[2]}, b{edge.second[0], edge.second[1], edge.second[2]};
@@ -54,15 +59,10 @@ ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, 
   // Corners: the ends of open curves and the points where more than two curve edges meet (the
   // front meeting the boundary, a crossing's ends), a seed each on side a.
   std::vector<std::pair<Vec3, Vec3>> corners;
-  for (const auto& [p, d] : degree) {
-    if (d == 2) continue;
-    Vec3 n{};
-    for (const auto& [edge, normal] : curve_edges)
-      if (edge.first == p || edge.second == p) n = normal;
-    corners.push_back({{p[0], p[1], p[2]}, n});
-  }
+  for (const auto& [p, d] : degree)
+    if (d.first != 2) corners.push_back({{p[0], p[1], p[2]}, d.second});
   return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior,
-                                  1e-12 * std::max(r, diagonal), RandomStream::Cracks, stats);
+                                  1e-12 * extent, RandomStream::Cracks, stats);
 }
 
 }  // namespace froth
