@@ -54,6 +54,7 @@ inline constexpr double kDefaultFeatureAngle = 30;
 
 class SurfaceLocator;
 struct RegionSet;
+struct CrackSet;
 
 struct Domain {
   std::string description;      // "box:..." or the file name
@@ -79,6 +80,9 @@ struct Domain {
   // Several regions (a multi-region solid, paper §2.2 "Non-manifold geometry"): this domain is
   // their union, and the regions' solids and interfaces are here. Null: one region.
   std::shared_ptr<const RegionSet> regions;
+  // Crack sheets this domain is cut open along (src/input/cracked_domain.hpp): its surface then
+  // holds each sheet twice, one copy facing each side. Null: no cracks.
+  std::shared_ptr<const CrackSet> cracks;
 
   bool contains(Vec3 p) const;
 };

@@ -162,6 +162,8 @@ struct SamplingStats {
   // A multi-region solid's interface seeds (sampling/protect_interfaces.hpp); sub-triangles of
   // the interfaces that no disk covers at the finest level (0: maximal on the interfaces).
   size_t interface_edge_seeds = 0, interface_face_seeds = 0, interface_uncovered = 0;
+  // Crack sheets' seeds (sampling/protect_cracks.hpp): on their curves and on the sheets.
+  size_t crack_edge_seeds = 0, crack_face_seeds = 0;
   // Their disks' radii over h: 1/2 on curves and 1/sqrt(2) on facets, less where h is graded.
   double interface_curve_factor = 0, interface_facet_factor = 0;
   size_t darts = 0;              // darts thrown in all rounds

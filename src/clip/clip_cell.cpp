@@ -372,6 +372,26 @@ void CellClipper::drop_seam_points(Loops& ls) const {
   ls.ids.resize(to);
 }
 
+// A crack's two copies (input/cracked_domain.hpp) cross an edge of V at one point, a rounding
+// error apart in either order: the walk along the edge must leave the side it is on before it
+// enters the other, so of two such crossings the one whose facet faces along the edge (an exit)
+// goes first.
+void CellClipper::order_twin_crossings(std::vector<int32_t>& along, Vec3 dir) const {
+  if (!domain_.cracks) return;
+  const std::vector<Vec3>& pts = s_->pts;
+  const std::vector<Names>& keys = s_->keys;
+  auto exits = [&](int32_t q) {
+    for (int k = 0; k < keys[q].n; ++k)
+      if (const int32_t g = keys[q].gen[k]; g < 0 && g >= -gens_.planes)
+        return dot(domain_.planes[size_t(-g - 1)].normal, dir) > 0;
+    return false;
+  };
+  const double tie = 1e-12 * norm2(dir);
+  for (size_t k = 0; k + 1 < along.size(); ++k)
+    if (dot(pts[along[k + 1]] - pts[along[k]], dir) <= tie && !exits(along[k]) && exits(along[k + 1]))
+      std::swap(along[k], along[k + 1]);
+}
+
 // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
 // The faces are built in `out` in place: it is only read on success.
 std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
@@ -391,6 +411,7 @@ std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
       for (uint32_t q = w.edges[e].cross_begin; q < w.edges[e].cross_end; ++q) w.along.push_back(w.crossings[q].second);
       std::sort(w.along.begin(), w.along.end(),
                 [&](int32_t a, int32_t b) { return dot(w.pts[a] - pu, dir) < dot(w.pts[b] - pu, dir); });
+      order_twin_crossings(w.along, dir);
       bool in = w.status[u];
       int32_t cur = in ? w.intern(w.vnames[u], pu) : -1;
       for (int32_t q : w.along) {

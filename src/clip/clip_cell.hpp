@@ -101,6 +101,7 @@ class CellClipper {
   std::optional<Result> add_border_faces(const Call& c);
   Result close_cell(const Call& c);
   void drop_seam_points(Loops& loops) const;
+  void order_twin_crossings(std::vector<int32_t>& along, Vec3 dir) const;
   const Domain& domain_;
   const SurfaceGenerators& gens_;
   const TriangleGrid& triangles_;

@@ -20,15 +20,14 @@
 #include <fmt/format.h>
 
 #include "common/union_find.hpp"
+#include "input/cgal_meshes.hpp"
 #include "froth/error.hpp"
 
 namespace froth {
 namespace {
 
-using Exact = CGAL::Exact_predicates_exact_constructions_kernel;
-using Inexact = CGAL::Exact_predicates_inexact_constructions_kernel;
-using ExactMesh = CGAL::Surface_mesh<Exact::Point_3>;
-using Mesh = CGAL::Surface_mesh<Inexact::Point_3>;
+using Inexact = InexactKernel;
+using Mesh = InexactMesh;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 [[noreturn]] void bad(const std::string& name, const std::string& what) {
@@ -46,33 +45,6 @@ double area_of(const TriangleSurface& s) {
   double sum = 0;
   for (const auto& t : s.triangles) sum += triangle_area(s, t);
   return sum;
-}
-
-template <class M>
-M to_mesh(const TriangleSurface& s) {
-  M m;
-  std::vector<typename M::Vertex_index> v;
-  for (Vec3 p : s.vertices) v.push_back(m.add_vertex({p.x, p.y, p.z}));
-  for (const auto& t : s.triangles) m.add_face(v[size_t(t[0])], v[size_t(t[1])], v[size_t(t[2])]);
-  return m;
-}
-
-// The mesh's triangles with its points rounded to the nearest doubles.
-TriangleSurface from_exact(const ExactMesh& m) {
-  TriangleSurface s;
-  std::vector<int32_t> id(m.number_of_vertices() + m.number_of_removed_vertices(), -1);
-  for (ExactMesh::Vertex_index v : m.vertices()) {
-    const Exact::Point_3& p = m.point(v);
-    id[size_t(v)] = int32_t(s.vertices.size());
-    s.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
-  }
-  for (ExactMesh::Face_index f : m.faces()) {
-    std::array<int32_t, 3> t{};
-    int k = 0;
-    for (ExactMesh::Vertex_index v : CGAL::vertices_around_face(m.halfedge(f), m)) t[size_t(k++)] = id[size_t(v)];
-    s.triangles.push_back(t);
-  }
-  return s;
 }
 
 // The edges used by each number of triangles, with the triangles, for the checks below.
@@ -185,7 +157,7 @@ void check_and_orient(TriangleSurface& s, const std::string& name) {
     if (flip[t]) std::swap(T[t][1], T[t][2]);
   // Self-intersections, exact predicates.
   std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
-  const Mesh m = to_mesh<Mesh>(s);
+  const Mesh m = to_cgal_mesh<Mesh>(s);
   PMP::self_intersections(m, std::back_inserter(pairs));
   if (!pairs.empty()) {
     const auto [f, g] = pairs.front();
@@ -202,13 +174,14 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   TriangleSurface s = sheet;
   check_and_orient(s, name);
   crack.input_area = area_of(s);
+  crack.given = s;
 
   // The part inside the solid: CGAL clips the open sheet by the closed surface (exact), keeping
   // what lies on the surface too, which is then refused below.
-  ExactMesh cut = to_mesh<ExactMesh>(s);
-  ExactMesh clipper = to_mesh<ExactMesh>(solid);
+  ExactMesh cut = to_cgal_mesh<ExactMesh>(s);
+  ExactMesh clipper = to_cgal_mesh<ExactMesh>(solid);
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
-  crack.surface = from_exact(cut);
+  crack.surface = from_exact_mesh(cut);
   crack.area = area_of(crack.surface);
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
@@ -225,7 +198,7 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   }
 
   // Where the clipped sheet touches the solid's surface: distances by an AABB tree over it.
-  const Mesh solid_mesh = to_mesh<Mesh>(solid);
+  const Mesh solid_mesh = to_cgal_mesh<Mesh>(solid);
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Inexact, Primitive>>;
   Tree tree(faces(solid_mesh).first, faces(solid_mesh).second, solid_mesh);
@@ -262,7 +235,7 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
   const size_t n = sheets.size();
   if (n < 2) return;
   std::vector<ExactMesh> mesh;
-  for (const CrackSheet& c : sheets) mesh.push_back(to_mesh<ExactMesh>(c.surface));
+  for (const CrackSheet& c : sheets) mesh.push_back(to_cgal_mesh<ExactMesh>(c.surface));
   std::vector<uint8_t> changed(n, 0);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j) {
@@ -291,7 +264,7 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
       std::vector<std::array<Vec3, 2>> boundary;
       for (const auto& e : sheets[i].on_boundary)
         boundary.push_back({before.vertices[size_t(e[0])], before.vertices[size_t(e[1])]});
-      sheets[i].surface = from_exact(mesh[i]);
+      sheets[i].surface = from_exact_mesh(mesh[i]);
       auto on_segment = [](Vec3 p, const std::array<Vec3, 2>& seg) {
         const Vec3 d = seg[1] - seg[0];
         const double t = dot(p - seg[0], d) / dot(d, d);

@@ -15,6 +15,7 @@ namespace froth {
 
 struct CrackSheet {
   std::string name;         // the file's stem
+  TriangleSurface given;    // the sheet as given, validated and wound (cut_along_cracks corefines the solid with it)
   TriangleSurface surface;  // inside the solid; each edge-connected piece wound one way (side a)
   double input_area = 0;    // of the sheet as given
   double area = 0;          // of the part inside the solid

@@ -24,6 +24,7 @@
 #include "sampling/sizing.hpp"
 #include "pipeline/border_patches.hpp"
 #include "pipeline/partition.hpp"
+#include "input/cracked_domain.hpp"
 #include "sampling/mps.hpp"
 #include "assembly/tessellation.hpp"
 
@@ -104,6 +105,7 @@ size_t first_cell_of_seed(const PolyMesh& mesh, size_t k) {
 // Thin walls and narrow gaps of the input, up to r: reported (what r the part's features ask for).
 // With grading, up to 2r: walls below 2r shrink h (sampling/sizing.hpp).
 FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
+  if (domain.cracks) return measure_features(domain.cracks->solid, opt, run, watch);  // (a sheet is no wall)
   if (domain.surface.triangles.empty()) return {};
   stage_starts(opt, "feature size");
   FeatureSize fs = measure_feature_size(domain, opt.grade ? 2 * opt.r : opt.r);

@@ -152,7 +152,7 @@ ActiveCubes Sampler::refine(const ActiveCubes& active, int level, std::optional<
 }
 
 void Sampler::protect() {
-  if (!domain_.regions && (domain_.convex || domain_.reflex_curves.empty())) return;
+  if (!domain_.regions && !domain_.cracks && (domain_.convex || domain_.reflex_curves.empty())) return;
   const ProtectionSeeds p = protect_boundary_and_interfaces(domain_, r_, seed_, s_.stats);
   std::map<int64_t, std::vector<int32_t>> in_cube;  // by index into cube_seed
   for (size_t k = 0; k < p.points.size(); ++k) {

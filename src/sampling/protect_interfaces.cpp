@@ -8,7 +8,10 @@
 #include <fmt/format.h>
 
 #include "common/random.hpp"
+#include "common/surface_locator.hpp"
 #include "froth/error.hpp"
+#include "input/cracked_domain.hpp"
+#include "sampling/protect_cracks.hpp"
 
 namespace froth {
 namespace {
@@ -318,6 +321,39 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
                                   RandomStream::Interfaces, stats, h, lipschitz);
 }
 
+namespace {
+
+// The crack sheets' seeds (protect_cracks), clear of the boundary's, appended to `p`. A seed's
+// side a is its inward direction; where that runs along the solid's surface (a seed on a line
+// where the sheet meets it), it is tipped into the solid by the surface's inward normal there.
+void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSeeds& p, SamplingStats& stats) {
+  InterfaceProtectionStats cs;
+  ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs);
+  const size_t solid_planes = domain.cracks->solid.planes.size();  // the sheets' come after
+  const double near = 1e-9 * domain.bounds.diagonal();
+  std::vector<int32_t> tris;
+  for (size_t k = 0; k < q.points.size(); ++k) {
+    const Vec3 x = q.points[k];
+    if (domain.locator->side(x + 1e-6 * r * q.inward[k]) > 0) continue;
+    const Vec3 reach{near, near, near};
+    domain.locator->triangles_near(x - reach, x + reach, tris);
+    Vec3 in{};
+    for (int32_t t : tris) {
+      const size_t plane = size_t(domain.triangle_plane[size_t(t)]);
+      if (plane >= solid_planes) continue;
+      const Plane& pl = domain.planes[plane];
+      if (std::abs(dot(pl.normal, x) - pl.offset) <= near) in = in - pl.normal;
+    }
+    if (norm2(in) > 0) q.inward[k] = unit(q.inward[k] + unit(in));
+  }
+  p.points.insert(p.points.end(), q.points.begin(), q.points.end());
+  p.kinds.insert(p.kinds.end(), q.kinds.begin(), q.kinds.end());
+  p.inward.insert(p.inward.end(), q.inward.begin(), q.inward.end());
+  stats.crack_edge_seeds = cs.edge_seeds, stats.crack_face_seeds = cs.face_seeds;
+}
+
+}  // namespace
+
 ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, uint64_t seed, SamplingStats& stats,
                                                 const std::function<double(Vec3)>& h, double lipschitz) {
   ProtectionSeeds p;
@@ -325,6 +361,7 @@ ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, 
   const size_t reflex = p.points.size();
   stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
   stats.edge_seeds = reflex - stats.vertex_seeds;
+  if (domain.cracks) add_crack_seeds(domain, r, seed, p, stats);
   if (!domain.regions) return p;
   InterfaceProtectionStats is;
   const ProtectionSeeds q =

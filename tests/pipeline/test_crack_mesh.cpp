@@ -1,0 +1,96 @@
+// Meshes cut open along cracks (input/cracked_domain.hpp, issue 38): the crack's faces on each
+// side sum to the sheet's area, no face shared by two cells lies on a sheet, the two sides share
+// no vertex away from the front, and the mesh passes the structural checks with its volume.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "common/test_support.hpp"
+#include "froth/domain.hpp"
+#include "froth/error.hpp"
+#include "froth/validate.hpp"
+#include "input/cracked_domain.hpp"
+#include "input/cracks.hpp"
+
+namespace froth {
+namespace {
+
+Domain cracked_box(const TriangleSurface& sheet, const std::string& name) {
+  const Domain box = load_domain("box:0,0,0,1,1,1");
+  std::vector<CrackSheet> sheets{crack_from_surface(sheet, name, box.surface)};
+  conform_crack_sheets(sheets);
+  return cut_along_cracks(box, std::move(sheets));
+}
+
+struct CrackFaces {
+  double area[2] = {0, 0};
+  size_t matched_on_sheet = 0;   // interior faces lying on the sheet's plane
+  size_t shared_vertices = 0;    // vertices used by faces of both sides
+};
+
+// The faces on the patches crack_NAME_a and _b of a sheet in the plane z = z0.
+CrackFaces crack_faces(const PolyMesh& m, const std::string& name, double z0) {
+  CrackFaces out;
+  int32_t patch[2] = {-1, -1};
+  for (size_t p = 0; p < m.patch_names.size(); ++p) {
+    if (m.patch_names[p] == "crack_" + name + "_a") patch[0] = int32_t(p);
+    if (m.patch_names[p] == "crack_" + name + "_b") patch[1] = int32_t(p);
+  }
+  EXPECT_GE(patch[0], 0);
+  EXPECT_GE(patch[1], 0);
+  std::set<int32_t> used[2];
+  for (size_t f = 0; f < m.face_count(); ++f) {
+    const int32_t p = m.patch_of(f);
+    bool on_plane = true;
+    for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+      on_plane &= std::abs(m.points[m.face_vertices[k]].z - z0) < 1e-9;
+    if (!is_border_generator(m.face_generator[f])) {
+      out.matched_on_sheet += on_plane;
+      continue;
+    }
+    for (int s = 0; s < 2; ++s) {
+      if (p != patch[s]) continue;
+      EXPECT_TRUE(on_plane) << "face " << f;
+      out.area[s] += face_area(m, f);
+      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) used[s].insert(m.face_vertices[k]);
+    }
+  }
+  for (int32_t v : used[0]) out.shared_vertices += used[1].count(v);
+  return out;
+}
+
+double volume_sum(const PolyMesh& m) {
+  double sum = 0;
+  for (size_t c = 0; c < m.cell_count(); ++c) sum += cell_volume(m, c);
+  return sum;
+}
+
+TEST(CrackMesh, ThroughCrackCutsTheBoxInTwo) {
+  const Domain d = cracked_box(test::square_sheet(-0.2, 1.3, -0.1, 1.2, 0.5, 5), "through");
+  for (double r : {1.0 / 12, 1.0 / 20})
+    for (uint64_t seed : {1, 2}) {
+      SCOPED_TRACE(testing::Message() << "r " << r << " seed " << seed);
+      RunReport run;
+      const PolyMesh m = test::mesh_of(d, r, seed, 2, &run);
+      const MeshCheck check = check_mesh(m);
+      EXPECT_TRUE(check.ok()) << check.first_problem;
+      EXPECT_NEAR(volume_sum(m), 1.0, 1e-9);
+      const CrackFaces c = crack_faces(m, "through", 0.5);
+      EXPECT_NEAR(c.area[0], 1.0, 1e-9);
+      EXPECT_NEAR(c.area[1], 1.0, 1e-9);
+      EXPECT_EQ(c.matched_on_sheet, 0u);
+      EXPECT_EQ(c.shared_vertices, 0u);
+      // No cell reaches across the crack.
+      for (size_t cell = 0; cell < m.cell_count(); ++cell) {
+        double lo = 1, hi = 0;
+        for (int64_t f = m.cell_face_begin[cell]; f < m.cell_face_begin[cell + 1]; ++f)
+          for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+            lo = std::min(lo, m.points[m.face_vertices[k]].z), hi = std::max(hi, m.points[m.face_vertices[k]].z);
+        EXPECT_FALSE(lo < 0.5 - 1e-9 && hi > 0.5 + 1e-9) << "cell " << cell;
+      }
+    }
+}
+
+}  // namespace
+}  // namespace froth
