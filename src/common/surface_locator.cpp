@@ -32,15 +32,19 @@ struct SurfaceLocator::Impl {
   std::vector<CGAL::Bbox_3> boxes;  // per triangle
 };
 
-SurfaceLocator::SurfaceLocator(const TriangleSurface& surface)
+SurfaceLocator::SurfaceLocator(const TriangleSurface& surface, bool soup)
     : triangles_(surface.triangles), impl_(std::make_unique<Impl>()) {
   Mesh& m = impl_->mesh;
   for (Vec3 p : surface.vertices) {
     impl_->points.push_back(to_cgal(p));
-    m.add_vertex(impl_->points.back());
+    if (!soup) m.add_vertex(impl_->points.back());
   }
   for (size_t t = 0; t < surface.triangles.size(); ++t) {
     auto [a, b, c] = surface.triangles[t];
+    if (soup) {
+      const auto& P = impl_->points;
+      a = int32_t(m.add_vertex(P[size_t(a)])), b = int32_t(m.add_vertex(P[size_t(b)])), c = int32_t(m.add_vertex(P[size_t(c)]));
+    }
     auto f = m.add_face(Mesh::Vertex_index(a), Mesh::Vertex_index(b), Mesh::Vertex_index(c));
     if (f == Mesh::null_face() || size_t(f) != t) {
       Vec3 p = surface.vertices[a];

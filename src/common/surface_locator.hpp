@@ -20,7 +20,10 @@ int segment_crossing(Vec3 a, Vec3 b, Vec3 p, Vec3 q, Vec3 r);
 class SurfaceLocator {
  public:
   // `surface` must be closed and free of self-intersections (validated); shells may nest.
-  explicit SurfaceLocator(const TriangleSurface& surface);
+  // `soup`: each triangle gets vertices of its own in the CGAL mesh, for a surface that touches
+  // itself (a solid cut along cracks, input/cracked_domain.hpp), which a halfedge mesh cannot
+  // hold; every query but first_self_intersection is geometric and answers alike.
+  explicit SurfaceLocator(const TriangleSurface& surface, bool soup = false);
   ~SurfaceLocator();
 
   // Inside the solid by ray parity (CGAL Side_of_triangle_mesh: exact predicates, a random ray

@@ -221,6 +221,15 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   if (solid.regions)
     fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with --crack");
   for (const CrackSheet& c : sheets)
+    if (!c.front.empty()) {
+      const Vec3 p = c.surface.vertices[size_t(c.front[0][0])];
+      fail(ErrorKind::Usage,
+           fmt::format("crack {}: its front (the edges inside the solid, {:.6g} long, one at {}) would lie inside cells: "
+                       "splitting the cells at a crack front is not supported yet. A crack whose every edge lies on "
+                       "the solid's surface (a through crack) or a closed sheet is cut into the mesh",
+                       c.name, c.front_length, at(p)));
+    }
+  for (const CrackSheet& c : sheets)
     if (!c.on_sheets.empty())
       refuse(c, "it crosses another crack: crossing cracks are not supported yet (give them one at a time)");
   Domain d;
@@ -237,6 +246,7 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   s = corefined_surface(solid, sheets);
   const std::vector<int32_t> parent = parent_triangles(solid, s);
   s.patch_names = solid.surface.patch_names;
+  s.triangle_patch.clear();
   const bool patched = solid.surface.triangle_patch.size() == solid.surface.triangles.size();
   if (!patched) s.patch_names = {"surface"};
   for (size_t t = 0; t < s.triangles.size(); ++t) {
@@ -294,7 +304,7 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
         s.triangle_patch.push_back(patch_a + side);
       }
   }
-  d.locator = std::make_shared<SurfaceLocator>(s);
+  d.locator = std::make_shared<SurfaceLocator>(s, true);
   set->sheets = std::move(sheets);
   set->solid = solid;
   d.cracks = std::move(set);

@@ -92,5 +92,65 @@ TEST(CrackMesh, ThroughCrackCutsTheBoxInTwo) {
     }
 }
 
+// A closed sheet: an octahedron flattened in z (half-widths 0.3, 0.3, 0.08) around the box's
+// centre, its points on |x - 0.5| / 0.3 + |y - 0.5| / 0.3 + |z - 0.5| / 0.08 = 1.
+TriangleSurface lens() {
+  TriangleSurface s;
+  s.vertices = {{0.8, 0.5, 0.5}, {0.2, 0.5, 0.5}, {0.5, 0.8, 0.5}, {0.5, 0.2, 0.5}, {0.5, 0.5, 0.58}, {0.5, 0.5, 0.42}};
+  s.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  return s;
+}
+
+double lens_level(Vec3 p) { return std::abs(p.x - 0.5) / 0.3 + std::abs(p.y - 0.5) / 0.3 + std::abs(p.z - 0.5) / 0.08; }
+
+TEST(CrackMesh, ClosedSheetCutsOutItsInside) {
+  const TriangleSurface sheet = lens();
+  double area = 0;
+  for (const auto& t : sheet.triangles)
+    area += 0.5 * norm(cross(sheet.vertices[size_t(t[1])] - sheet.vertices[size_t(t[0])],
+                             sheet.vertices[size_t(t[2])] - sheet.vertices[size_t(t[0])]));
+  const Domain d = cracked_box(sheet, "lens");
+  for (uint64_t seed : {1, 2}) {
+    SCOPED_TRACE(testing::Message() << "seed " << seed);
+    const PolyMesh m = test::mesh_of(d, 1.0 / 12, seed, 2);
+    const MeshCheck check = check_mesh(m);
+    EXPECT_TRUE(check.ok()) << check.first_problem;
+    EXPECT_NEAR(volume_sum(m), 1.0, 1e-9);
+    double side[2] = {0, 0};
+    size_t matched_on_lens = 0;
+    std::set<int32_t> used[2];
+    for (size_t f = 0; f < m.face_count(); ++f) {
+      // On the lens: its points and its centroid (a face across the thin lens has its points on
+      // it but not its centroid).
+      bool on = std::abs(lens_level(test::face_centroid(m, int64_t(f))) - 1) < 1e-9;
+      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+        on &= std::abs(lens_level(m.points[m.face_vertices[k]]) - 1) < 1e-9;
+      const int32_t p = m.patch_of(f);
+      if (!is_border_generator(m.face_generator[f])) matched_on_lens += on;
+      for (int s = 0; s < 2; ++s)
+        if (p >= 0 && m.patch_names[size_t(p)] == std::string("crack_lens_") + "ab"[s]) {
+          EXPECT_TRUE(on) << "face " << f;
+          side[s] += face_area(m, f);
+          for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) used[s].insert(m.face_vertices[k]);
+        }
+    }
+    EXPECT_NEAR(side[0], area, 1e-9);
+    EXPECT_NEAR(side[1], area, 1e-9);
+    EXPECT_EQ(matched_on_lens, 0u);
+    for (int32_t v : used[0]) EXPECT_EQ(used[1].count(v), 0u);
+  }
+}
+
+TEST(CrackMesh, AFrontInsideTheSolidIsRefusedForNow) {
+  try {
+    cracked_box(test::square_sheet(0.25, 0.75, 0.3, 0.7, 0.5, 3), "penny");
+    FAIL() << "a penny crack was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Usage);
+    EXPECT_NE(std::string(e.what()).find("crack penny: its front"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace froth
+
