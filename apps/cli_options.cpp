@@ -28,6 +28,11 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
       ->each([&a](const std::string& s) {
         if (a.input.empty()) a.input = s;
       });
+  app.add_option("--crack", a.cracks,
+                 "an open sheet (STL, OBJ, OFF, PLY) the solid is cut open along: a through crack, or a closed sheet; "
+                 "repeat for several")
+      ->expected(1)
+      ->take_all();
   CLI::Option* radius =
       app.add_option("-r,--radius", a.r, "sampling radius r: seeds are at least r apart, every point within r of one");
   app.add_option("--seed", a.seed_text, "random seed, 0 to 2^64-1 (the mesh is a pure function of input, r and seed)")

@@ -18,6 +18,7 @@ inline const std::string kVtuDescription = "a VTK XML unstructured grid of polyh
 struct CommonArgs {
   std::vector<std::string> inputs;  // several: one region each (a multi-region solid)
   std::string input;                // the first
+  std::vector<std::string> cracks;  // --crack: sheets the solid is cut open along
   double r = -INFINITY;  // -INFINITY: not given
   std::string seed_text = "0";
   uint64_t seed = 0;  // parsed from seed_text (cli_guards)
@@ -34,9 +35,11 @@ struct CommonArgs {
 
   Verbosity verbosity() const { return quiet ? Verbosity::Quiet : verbose ? Verbosity::Verbose : Verbosity::Normal; }
   froth::DomainOptions load_options() const { return {feature_angle, repair, max_memory_gb * 1e9}; }
+  // The inputs read as one domain (load_regions), cut along the cracks if any are given.
+  froth::Domain load() const { return froth::load_cracks(froth::load_regions(inputs, load_options()), cracks, load_options()); }
 };
 
-// Registers INPUT, -r, --seed, --weld, --threads, --no-quality, --feature-angle, --repair,
+// Registers INPUT, --crack, -r, --seed, --weld, --threads, --no-quality, --feature-angle, --repair,
 // --grade, --min-r, --max-grading, --max-memory, --quiet and --verbose on `app`; returns -r.
 CLI::Option* add_common_options(CLI::App& app, CommonArgs& a);
 

@@ -43,7 +43,7 @@ int run_ensemble(const EnsembleArgs& a, const std::string& command, froth::Commu
   froth::FolderLock lock;  // rank 0 holds the folder until the run ends
   int code = run_with_exit_codes(
       [&] {
-        domain = froth::load_regions(a.inputs, a.load_options());
+        domain = a.load();
         // One rank looks at the folder (and empties it with --overwrite) before any rank builds.
         if (world.rank() == 0) {
           refuse_unwritable_outputs({{"-o", (std::filesystem::path(a.dir) / "ensemble.json").string()}});

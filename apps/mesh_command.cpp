@@ -60,7 +60,7 @@ int dry_run(const MeshArgs& a, const froth::Domain& domain, const froth::MeshOpt
 struct Reading {
   explicit Reading(const MeshArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
-    domain = froth::load_regions(a.inputs, a.load_options());
+    domain = a.load();
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     peak_bytes = froth::peak_rss_bytes();
   }

@@ -50,9 +50,11 @@ std::vector<std::string> notes(const froth::RunReport& run) {
     out.push_back("sizing not graded: resolving the walls and gaps would cost more than the default budget of cells; "
                   "give --min-r to grade anyway");
   if (run.split_seeds > 0)
-    out.push_back(fmt::format("{} seeds saw the domain in several pieces (a wall or gap thinner than r): their pieces "
-                              "became {} more cells (cell data piece > 0)",
-                              run.split_seeds, run.extra_pieces));
+    out.push_back(fmt::format("{} seeds saw the domain in several pieces ({}): their pieces became {} more cells (cell "
+                              "data piece > 0)",
+                              run.split_seeds,
+                              run.cracks.empty() ? "a wall or gap thinner than r" : "a crack, or a wall or gap thinner than r",
+                              run.extra_pieces));
   if (run.convex_split.requested) {
     const froth::RunReport::ConvexSplit& cs = run.convex_split;
     out.push_back(cs.cells_split == 0
@@ -178,6 +180,10 @@ std::string mesh_summary(const froth::RunReport& run, const std::vector<std::str
     out += line("regions", fmt::format("{}; {} interface cells on {} interfaces", join(parts), run.interface_cells,
                                        run.interfaces.size()));
   }
+  for (const froth::RunReport::Crack& c : run.cracks)
+    out += line("crack", fmt::format("{}: faces {:.6g} on side a, {:.6g} on side b, sheet {:.6g} inside the solid{}", c.name,
+                                     c.from_a, c.from_b, c.area,
+                                     c.clipped ? fmt::format(" (clipped from {:.6g})", c.input_area) : ""));
   if (run.quality) out += line("quality", quality_text(run));
   out += line("time", time_text(run));
   if (v == Verbosity::Verbose) out += details(run);

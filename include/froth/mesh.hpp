@@ -242,6 +242,16 @@ struct RunReport {
     double area = 0, from_a = 0, from_b = 0;
   };
   std::vector<Interface> interfaces;
+  // A solid cut along cracks (froth/domain.hpp's load_cracks), per sheet: its area as given and
+  // inside the solid (clipped: a part lay outside), the mesh's crack faces on each side (patches
+  // crack_NAME_a and _b: each sums to the area inside) and how many.
+  struct Crack {
+    std::string name;
+    double input_area = 0, area = 0, from_a = 0, from_b = 0;
+    size_t faces_a = 0, faces_b = 0;
+    bool clipped = false;
+  };
+  std::vector<Crack> cracks;
   double border_area = 0;  // area of the border faces, to compare with the surface's
   // Cells not star-shaped from their seed (a face plane beyond it by over 1e-6 r), before
   // welding, and the worst distance / r; of those, cells not star-shaped from any point (their

@@ -133,7 +133,7 @@ Pieces find_pieces(const PolyMesh& m, const SplitCell& s) {
 
 }  // namespace
 
-void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const RegionSet* regions) {
+void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const RegionSet* regions, bool pieces_keep_kind) {
   if (regions) {
     // Every cell's region: its faces' (one region for a cell that is not split).
     m.region.resize(m.cell_count());
@@ -207,7 +207,7 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
     for (int p = 0; p < piece_count(c); ++p) {
       const size_t cell = size_t(first[c] + p);
       out.seeds[cell] = m.seeds[c];
-      out.kinds[cell] = p == 0 ? m.kinds[c] : CellKind::Fringe;
+      out.kinds[cell] = p == 0 || pieces_keep_kind ? m.kinds[c] : CellKind::Fringe;
       out.piece[cell] = uint32_t(p);
       if (regions) out.region[cell] = w < 0 ? m.region[c] : pieces[size_t(w)].region[size_t(p)];
       int64_t face = out.cell_face_begin[cell], fv = cell_fv[cell];

@@ -24,6 +24,9 @@ struct SplitCell {
 // by region too: the parts of a cell in two regions share the interface's vertices, and each
 // interface face (on a facet between two regions) becomes the twin of the same cell's part on
 // the other side. mesh.region is set and face_region cleared.
-void split_pieces(PolyMesh& mesh, const std::vector<SplitCell>& split, const RegionSet* regions = nullptr);
+// `pieces_keep_kind`: every piece keeps the seed's kind (a solid cut along cracks, where a
+// sheet seed's cell is cut in two by design), instead of the others becoming fringe cells.
+void split_pieces(PolyMesh& mesh, const std::vector<SplitCell>& split, const RegionSet* regions = nullptr,
+                  bool pieces_keep_kind = false);
 
 }  // namespace froth

@@ -28,15 +28,18 @@ M to_cgal_mesh(const TriangleSurface& s) {
   return m;
 }
 
-// The mesh's triangles with its points rounded to the nearest doubles, vertices in the mesh's
+// The mesh's triangles with its points rounded to doubles, vertices in the mesh's
 // order (so a mesh that only gained vertices keeps its first ones' numbers).
 inline TriangleSurface from_exact_mesh(const ExactMesh& m) {
   TriangleSurface s;
   std::vector<int32_t> id(m.number_of_vertices() + m.number_of_removed_vertices(), -1);
   for (ExactMesh::Vertex_index v : m.vertices()) {
+    // Rounded from the exact value, not from the lazy number's interval (which depends on how
+    // the point was constructed): a point two computations reach rounds alike in both.
     const ExactKernel::Point_3& p = m.point(v);
     id[size_t(v)] = int32_t(s.vertices.size());
-    s.vertices.push_back({CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    s.vertices.push_back({CGAL::to_double(CGAL::exact(p.x())), CGAL::to_double(CGAL::exact(p.y())),
+                          CGAL::to_double(CGAL::exact(p.z()))});
   }
   for (ExactMesh::Face_index f : m.faces()) {
     std::array<int32_t, 3> t{};

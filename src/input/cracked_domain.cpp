@@ -219,7 +219,7 @@ std::map<int32_t, int32_t> cut_along_lines(TriangleSurface& cut, const std::vect
 
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   if (solid.regions)
-    fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with --crack");
+    fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
   for (const CrackSheet& c : sheets)
     if (!c.front.empty()) {
       const Vec3 p = c.surface.vertices[size_t(c.front[0][0])];
@@ -236,7 +236,7 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   d.description = solid.description;
   d.features = solid.features;
   d.convex = false;
-  d.reflex_curves = solid.reflex_curves;  // the corefinement keeps the solid's vertex numbers
+  d.reflex_curves = solid.reflex_curves;  // (vertices of the solid's surface, for the counts; protection uses the solid's)
   d.shells = solid.shells, d.cavities = solid.cavities, d.reoriented_triangles = solid.reoriented_triangles;
   d.bounds = solid.bounds, d.origin = solid.origin;
   d.volume = solid.volume, d.surface_area = solid.surface_area;
@@ -309,6 +309,21 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   set->solid = solid;
   d.cracks = std::move(set);
   return d;
+}
+
+Domain load_cracks(const Domain& solid, const std::vector<std::string>& paths, const DomainOptions& options) {
+  if (paths.empty()) return solid;
+  std::vector<CrackSheet> sheets;
+  for (const std::string& path : paths) {
+    sheets.push_back(load_crack(path, solid.surface, options, solid.origin));
+    for (size_t k = 0; k + 1 < sheets.size(); ++k)
+      if (sheets[k].name == sheets.back().name)
+        fail(ErrorKind::Usage, fmt::format("two cracks are named {} (a crack is named by its file's stem, and its "
+                                           "patches by that name): rename one of the files",
+                                           sheets.back().name));
+  }
+  conform_crack_sheets(sheets);
+  return cut_along_cracks(solid, std::move(sheets));
 }
 
 }  // namespace froth

@@ -220,7 +220,7 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   return crack;
 }
 
-CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options) {
+CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options, Vec3 origin) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   TriangleSurface sheet;
@@ -228,6 +228,7 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
   else if (ext == ".off" || ext == ".obj" || ext == ".ply") sheet = read_polygon_file(path, options.max_memory_bytes);
   else
     fail(ErrorKind::Usage, fmt::format("crack {}: unsupported format '{}' (froth reads STL, OFF, OBJ and PLY)", path, ext));
+  for (Vec3& p : sheet.vertices) p = p - origin;
   return crack_from_surface(sheet, std::filesystem::path(path).stem().string(), solid);
 }
 

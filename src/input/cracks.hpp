@@ -34,7 +34,10 @@ struct CrackSheet {
 // triangle of zero area or a coordinate that is not finite, an edge of three or more triangles,
 // a vertex whose triangles make separate fans, a piece that cannot be wound one way, a sheet
 // that intersects itself, that lies on the solid's boundary, or that misses the solid.
-CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options = {});
+// `origin`: the solid's Domain::origin, subtracted from the sheet's points (the solid's stored
+// coordinates are the input's minus it).
+CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options = {},
+                      Vec3 origin = {});
 
 // The same for a sheet given as triangles (`name` for messages).
 CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid);

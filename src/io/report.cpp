@@ -62,6 +62,17 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                                {"area", i.area},
                                {"area_from_first", i.from_a},
                                {"area_from_second", i.from_b}});
+  for (const RunReport::Crack& c : run.cracks)
+    j["cracks"].push_back({{"name", c.name},
+                           {"input_area", c.input_area},
+                           {"area", c.area},
+                           {"clipped", c.clipped},
+                           {"area_from_a", c.from_a},
+                           {"area_from_b", c.from_b},
+                           {"faces_a", c.faces_a},
+                           {"faces_b", c.faces_b}});
+  if (!run.cracks.empty())
+    j["sampling"].update({{"crack_curve_seeds", s.crack_edge_seeds}, {"crack_sheet_seeds", s.crack_face_seeds}});
   if (!run.regions.empty())
     j["sampling"].update({{"interface_edge_seeds", s.interface_edge_seeds},
                           {"interface_face_seeds", s.interface_face_seeds},

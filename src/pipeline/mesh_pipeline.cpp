@@ -284,6 +284,25 @@ void measure_regions(const RegionSet& set, const PolyMesh& mesh, RunReport& run)
     }
 }
 
+// A cut solid's crack faces per sheet and side (sums in face order: the same for any thread count).
+void measure_cracks(const CrackSet& set, const PolyMesh& mesh, RunReport& run) {
+  run.cracks.clear();
+  std::vector<std::pair<size_t, int>> of_patch(mesh.patch_names.size(), {0, -1});  // patch -> (sheet, side)
+  for (size_t k = 0; k < set.sheets.size(); ++k) {
+    const CrackSheet& c = set.sheets[k];
+    run.cracks.push_back({c.name, c.input_area, c.area, 0, 0, 0, 0, !std::isnan(c.clipped_at.x)});
+    for (int side = 0; side < 2; ++side) of_patch[size_t(set.patches[k][size_t(side)])] = {k, side};
+  }
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    if (!is_border_generator(mesh.face_generator[f])) continue;
+    const auto [k, side] = of_patch[size_t(mesh.patch_of(f))];
+    if (side < 0) continue;
+    RunReport::Crack& c = run.cracks[k];
+    (side == 0 ? c.from_a : c.from_b) += face_area(mesh, f);
+    ++(side == 0 ? c.faces_a : c.faces_b);
+  }
+}
+
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).
 void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, RunReport& run, const WeldedCells& welded, Stopwatch& watch) {
   stage_starts(opt, "validation");
@@ -359,6 +378,7 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   }
   run.border_area = border_area(mesh);
   if (domain.regions) measure_regions(*domain.regions, mesh, run);
+  if (domain.cracks) measure_cracks(*domain.cracks, mesh, run);
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;

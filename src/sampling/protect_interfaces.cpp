@@ -357,7 +357,9 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
 ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, uint64_t seed, SamplingStats& stats,
                                                 const std::function<double(Vec3)>& h, double lipschitz) {
   ProtectionSeeds p;
-  if (!domain.convex) p = protect_reflex_features(domain, r, seed, h);
+  // A solid cut along cracks: the reflex features are the solid's (its curves on the uncut surface).
+  const Domain& solid = domain.cracks ? domain.cracks->solid : domain;
+  if (!solid.convex) p = protect_reflex_features(solid, r, seed, h);
   const size_t reflex = p.points.size();
   stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
   stats.edge_seeds = reflex - stats.vertex_seeds;

@@ -1,0 +1,159 @@
+"""Cracks (issue 38), read back by readers that are not froth: a through crack in the unit box and
+across plate_holes.STL (a real part, the crack's line on its surface running round its holes), and
+a closed sheet (a lens) in the box, at r = 1/12 and 1/20 of the solid's size and seeds 1 and 2.
+Checked on each mesh (VTK):
+- the report's crack faces on each side sum to the sheet's area inside the solid (1e-9), and so do
+  the --boundary file's faces on patches crack_NAME_a and crack_NAME_b;
+- no face of two cells lies on the sheet; the faces of the two sides share no point;
+- the cells' volumes sum to the solid's (1e-9); every cell closed and interior face matched (the
+  summary's line).
+Then: checkMesh on the box's polyMesh (the crack's two sides as two patches), the Exodus file's
+side sets, an ensemble of two members, and the refusals: a front inside the solid (exit 2, until
+cells are split at a front), a sheet with three triangles on an edge (exit 3).
+Usage: test_cracks.py FROTH MODELS_DIR CRACKS_DIR"""
+import json
+import os
+import sys
+import tempfile
+
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+from harness import check, checkmesh, face_stream, froth, read_vtk, summary
+
+MODELS, CRACKS = sys.argv[2], sys.argv[3]
+
+
+def polygon_area(points):
+    p = np.asarray(points)
+    return 0.5 * np.linalg.norm(np.sum(np.cross(p, np.roll(p, -1, axis=0)), axis=0))
+
+
+def on_sheet_plane(normal, offset):
+    n = np.asarray(normal, float)
+    return lambda p: abs(np.dot(n, p) - offset) < 1e-9 * max(1.0, abs(offset))
+
+
+def lens_level(p):
+    return abs(p[0] - 0.5) / 0.3 + abs(p[1] - 0.5) / 0.3 + abs(p[2] - 0.5) / 0.08
+
+
+def on_lens(p):
+    return abs(lens_level(p) - 1) < 1e-9
+
+
+def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, work):
+    out = os.path.join(work, f"{label}_{seed}.vtu")
+    boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
+    report = os.path.join(work, f"{label}_{seed}.json")
+    p = froth("mesh", solid, "--crack", sheet, "-r", repr(r), "--seed", str(seed), "-o", out, "--boundary", boundary,
+              "--report", report)
+    check(p.returncode == 0, f"{label} seed {seed}: exit {p.returncode}: {p.stderr}")
+    if p.returncode != 0:
+        return
+    check("every cell closed, every interior face matched" in p.stdout, f"{label}: the summary's checks")
+    run = json.load(open(report))
+    crack = run["cracks"][0]
+    area = crack["area"]
+    for side in ("a", "b"):
+        check(abs(crack[f"area_from_{side}"] - area) <= 1e-9 * area,
+              f"{label} seed {seed}: report's side {side} {crack[f'area_from_{side}']} against {area}")
+    check(abs(run["volume"]["cells_sum"] - run["volume"]["domain"]) <= 1e-9 * run["volume"]["domain"],
+          f"{label} seed {seed}: volume {run['volume']}")
+    # The boundary file's crack patches.
+    b = read_vtk(boundary)
+    names = b.GetFieldData().GetAbstractArray("patch_names")
+    names = [names.GetValue(k) for k in range(names.GetNumberOfValues())]
+    patch = vtk_to_numpy(b.GetCellData().GetArray("patch"))
+    pts = vtk_to_numpy(b.GetPoints().GetData())
+    for s, side in enumerate("ab"):
+        k = names.index(f"crack_{name}_{side}") if f"crack_{name}_{side}" in names else -1
+        check(k >= 0, f"{label}: patch crack_{name}_{side} in {names}")
+        total = 0.0
+        for c in np.nonzero(patch == k)[0]:
+            ids = b.GetCell(int(c)).GetPointIds()
+            poly = [pts[ids.GetId(q)] for q in range(ids.GetNumberOfIds())]
+            check(all(on_sheet(x) for x in poly), f"{label}: boundary face {c} of crack_{name}_{side} off the sheet")
+            total += polygon_area(poly)
+        check(abs(total - area) <= 1e-9 * area, f"{label} seed {seed}: boundary file's side {side} {total} against {area}")
+    # The mesh: faces on the sheet are in one cell each, and the two sides share no point.
+    g = read_vtk(out)
+    gp = vtk_to_numpy(g.GetPoints().GetData())
+    seen = {}
+    for c in range(g.GetNumberOfCells()):
+        for f in face_stream(g, c):
+            seen.setdefault(tuple(sorted(f)), []).append((c, f))
+    side_points = [set(), set()]
+    matched_on = 0
+    for key, uses in seen.items():
+        poly = gp[list(uses[0][1])]
+        on = all(on_sheet(x) for x in poly) and on_sheet(poly.mean(axis=0))
+        if not on:
+            continue
+        if len(uses) > 1:
+            matched_on += 1
+            continue
+        # Its side: its outward normal along the sheet's normal there or against it.
+        c, f = uses[0]
+        outward = np.sum(np.cross(poly, np.roll(poly, -1, axis=0)), axis=0)
+        side_points[int(np.dot(outward, sheet_normal(poly.mean(axis=0))) > 0)].update(f)
+    check(matched_on == 0, f"{label} seed {seed}: {matched_on} faces of two cells on the sheet")
+    shared = side_points[0] & side_points[1]
+    check(len(side_points[0]) > 0 and not shared, f"{label} seed {seed}: {len(shared)} points on both sides")
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="froth_cracks_")
+    box = "box:0,0,0,1,1,1"
+    plate = os.path.join(MODELS, "plate_holes.STL")  # 203.2 x 304.8 x 12.7
+    up, across, out_of_lens = (lambda p: (0, 0, 1)), (lambda p: (0, 1, 0)), (lambda p: p - 0.5)
+    cases = [("box_through", box, "box_through.obj", "box_through", 1.0, on_sheet_plane((0, 0, 1), 0.5), up),
+             ("lens", box, "lens.obj", "lens", 1.0, on_lens, out_of_lens),
+             ("plate_through", plate, "plate_through.obj", "plate_through", 304.8, on_sheet_plane((0, 1, 0), 152.4),
+              across)]
+    for label, solid, sheet, name, size, on_sheet, sheet_normal in cases:
+        for fraction in (12, 20):
+            for seed in (1, 2):
+                check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
+                           sheet_normal, work)
+
+    through = os.path.join(CRACKS, "box_through.obj")
+    # OpenFOAM: the two sides as two patches, a baffle checkMesh reads.
+    case = os.path.join(work, "case")
+    p = froth("mesh", box, "--crack", through, "-r", "0.1", "-o", os.path.join(case, "constant", "polyMesh"), "-q")
+    check(p.returncode == 0, f"polyMesh: {p.stderr}")
+    out = checkmesh(case).stdout
+    check("Mesh OK." in out and "crack_box_through_a" in out and "crack_box_through_b" in out,
+          f"checkMesh on the cracked box: {out[-2000:]}")
+    # Exodus II: a side set per side.
+    exo = os.path.join(work, "cracked.exo")
+    p = froth("mesh", box, "--crack", through, "-r", "0.1", "-o", exo, "-q")
+    check(p.returncode == 0, f"exodus: {p.stderr}")
+    reader = vtk.vtkExodusIIReader()
+    reader.SetFileName(exo)
+    reader.UpdateInformation()
+    sets = [reader.GetObjectName(vtk.vtkExodusIIReader.SIDE_SET, k).split(" ")[0]
+            for k in range(reader.GetNumberOfObjects(vtk.vtkExodusIIReader.SIDE_SET))]
+    check("crack_box_through_a" in sets and "crack_box_through_b" in sets, f"exodus side sets {sets}")
+    # An ensemble cuts every member.
+    ens = os.path.join(work, "ensemble")
+    p = froth("ensemble", box, "--crack", through, "-r", "0.1", "--members", "2", "-o", ens, "-q")
+    members = sorted(f for f in os.listdir(ens) if f.endswith(".vtu")) if p.returncode == 0 else []
+    check(len(members) == 2, f"ensemble: {p.stderr}")
+    for m in members:
+        names = read_vtk(os.path.join(ens, m)).GetFieldData().GetAbstractArray("patch_names")
+        check(names is None or "crack_box_through_a" in [names.GetValue(k) for k in range(names.GetNumberOfValues())],
+              f"ensemble member {m}: crack patches")
+
+    # Refused: a front inside the solid (not yet), a sheet that is no crack.
+    p = froth("mesh", box, "--crack", os.path.join(CRACKS, "penny.obj"), "-r", "0.1", "-o", os.path.join(work, "p.vtu"))
+    check(p.returncode == 2 and "crack penny: its front" in p.stderr, f"penny: exit {p.returncode}: {p.stderr}")
+    check(not os.path.exists(os.path.join(work, "p.vtu")), "penny: nothing written")
+    p = froth("mesh", box, "--crack", os.path.join(CRACKS, "fin.obj"), "-r", "0.1", "-o", os.path.join(work, "f.vtu"))
+    check(p.returncode == 3 and "shared by 3 triangles" in p.stderr, f"fin: exit {p.returncode}: {p.stderr}")
+    return summary()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
