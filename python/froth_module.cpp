@@ -228,6 +228,15 @@ PYBIND11_MODULE(_froth, m) {
       "A multi-region solid: one region per closed surface file, sharing their interfaces",
       py::arg("inputs"), py::arg("feature_angle") = froth::kDefaultFeatureAngle, py::arg("repair") = false);
   m.def(
+      "load_cracks",
+      [](const froth::Domain& solid, const std::vector<std::string>& sheets) {
+        py::gil_scoped_release unlocked;
+        return froth::load_cracks(solid, sheets);
+      },
+      "The solid cut open along crack sheets (files), as froth mesh --crack: each sheet's faces twice in the mesh, "
+      "on patches crack_NAME_a and crack_NAME_b",
+      py::arg("solid"), py::arg("sheets"));
+  m.def(
       "from_surface",
       [](const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
          const py::array_t<int64_t, py::array::c_style | py::array::forcecast>& triangles, const std::string& name,

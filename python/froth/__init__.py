@@ -17,11 +17,11 @@ import numbers
 import os
 
 from ._froth import (Domain, Error, InternalError, InvalidInputError, IoError, Mesh, UsageError, from_surface, load,
-                     load_regions, member_seed, read, version)
+                     load_cracks, load_regions, member_seed, read, version)
 from . import _froth
 
 __all__ = ["Domain", "Mesh", "Error", "UsageError", "InvalidInputError", "IoError", "InternalError", "box", "load",
-           "load_regions", "from_surface", "mesh", "ensemble", "read", "member_seed", "version"]
+           "load_regions", "load_cracks", "from_surface", "mesh", "ensemble", "read", "member_seed", "version"]
 __version__ = version
 
 
@@ -30,7 +30,11 @@ def box(lo, hi):
     return load("box:" + ",".join(repr(float(v)) for v in (*lo, *hi)))
 
 
-def _domain(surface, feature_angle, repair):
+def _domain(surface, feature_angle, repair, cracks=None):
+    if cracks:
+        if isinstance(cracks, (str, os.PathLike)):
+            cracks = [cracks]
+        return load_cracks(_domain(surface, feature_angle, repair), [os.fspath(c) for c in cracks])
     if isinstance(surface, Domain):
         return surface
     if isinstance(surface, (str, os.PathLike)):
@@ -46,7 +50,7 @@ def _domain(surface, feature_angle, repair):
 
 
 def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, threads=0, grade=False, min_r=None,
-         max_grading=0.2, max_memory=None, feature_angle=30.0, repair=False, convex=False):
+         max_grading=0.2, max_memory=None, feature_angle=30.0, repair=False, convex=False, cracks=None):
     """Mesh a solid: `froth mesh` with the same options gives the same mesh, byte for byte.
 
     surface: a surface file (STL, OBJ, OFF, PLY), 'box:X0,Y0,Z0,X1,Y1,Z1', a Domain, or a tuple
@@ -58,23 +62,25 @@ def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, thread
     max_memory: refuse a run estimated above this many GB (None: the memory available).
     feature_angle, repair: how a surface file is read (as --feature-angle and --repair).
     convex: split every non-convex cell into convex pieces (cell data "parent"; no welding).
+    cracks: sheet files (or one) the solid is cut open along, as --crack: through cracks and
+        closed sheets; their faces are on patches crack_NAME_a and crack_NAME_b.
     """
     if (r is None) == (cells is None):
         raise UsageError("give r= (the sampling radius) or cells= (about this many cells), not both" if r is not None
                          else "give r= (the sampling radius) or cells= (about this many cells)")
     if cells is not None and not (isinstance(cells, numbers.Real) and cells > 0):
         raise UsageError(f"cells must be a positive number, got {cells!r}")
-    domain = _domain(surface, feature_angle, repair)
+    domain = _domain(surface, feature_angle, repair, cracks)
     return _froth.mesh(domain, r=0.0 if r is None else float(r), cells=0.0 if cells is None else float(cells),
                        seed=seed, weld=weld, quality=quality, threads=threads, grade=grade, min_r=min_r,
                        max_grading=max_grading, max_memory=max_memory, convex=convex)
 
 
-def ensemble(surface, r, members, *, seed=0, feature_angle=30.0, repair=False, **options):
+def ensemble(surface, r, members, *, seed=0, feature_angle=30.0, repair=False, cracks=None, **options):
     """Yield `members` independent meshes of one solid, member k made with seed member_seed(seed, k):
-    the same meshes `froth ensemble` writes. Each has `index` and `member_seed` set. The surface is
-    read once."""
-    domain = _domain(surface, feature_angle, repair)
+    the same meshes `froth ensemble` writes. Each has `index` and `member_seed` set. The surface
+    (and the cracks) are read once."""
+    domain = _domain(surface, feature_angle, repair, cracks)
     for k in range(members):
         s = member_seed(seed, k)
         m = mesh(domain, r, seed=s, **options)

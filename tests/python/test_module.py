@@ -125,6 +125,20 @@ def test_regions_match_the_command_line_and_read_back(tmp_path):
     assert back.region_names == mesh.region_names and np.array_equal(back.cell_data["region"], region)
 
 
+def test_cracks_match_the_command_line(tmp_path):
+    sheet = pathlib.Path(__file__).parents[1] / "data" / "cracks" / "box_through.obj"
+    mesh = froth.mesh(BOX, r=0.12, seed=2, cracks=sheet)
+    crack = mesh.report["cracks"][0]
+    assert crack["name"] == "box_through" and abs(crack["area_from_a"] - 1) < 1e-9 and abs(crack["area_from_b"] - 1) < 1e-9
+    mesh.write(tmp_path / "py.vtu")
+    cli("mesh", BOX, "--crack", sheet, "-r", "0.12", "--seed", "2", "-q", "-o", tmp_path / "cli.vtu")
+    assert same_bytes(tmp_path / "py.vtu", tmp_path / "cli.vtu")
+    members = list(froth.ensemble(BOX, 0.2, 2, cracks=[sheet]))
+    assert all(m.report["cracks"][0]["faces_a"] > 0 for m in members)
+    with pytest.raises(froth.UsageError, match="front"):
+        froth.mesh(BOX, r=0.2, cracks=sheet.with_name("penny.obj"))
+
+
 def test_read_gives_back_the_written_mesh(tmp_path):
     mesh = froth.mesh(str(MODELS / "hinge.stl"), r=1.5, seed=9)
     mesh.write(tmp_path / "h.vtu", compress=True)
