@@ -3,6 +3,7 @@
 // no vertex away from the front, and the mesh passes the structural checks with its volume.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -139,6 +140,17 @@ TEST(CrackMesh, ClosedSheetCutsOutItsInside) {
     EXPECT_EQ(matched_on_lens, 0u);
     for (int32_t v : used[0]) EXPECT_EQ(used[1].count(v), 0u);
   }
+}
+
+TEST(CrackMesh, ThreadCountsGiveTheSameMesh) {
+  const Domain d = cracked_box(test::square_sheet(-0.2, 1.3, -0.1, 1.2, 0.5, 5), "through");
+  const PolyMesh one = test::mesh_of(d, 1.0 / 20, 3, 1), two = test::mesh_of(d, 1.0 / 20, 3, 2);
+  ASSERT_EQ(one.cell_count(), two.cell_count());
+  EXPECT_TRUE(std::equal(one.points.begin(), one.points.end(), two.points.begin(), two.points.end(),
+                         [](Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }));
+  EXPECT_TRUE(std::equal(one.face_vertices.begin(), one.face_vertices.end(), two.face_vertices.begin(),
+                         two.face_vertices.end()));
+  EXPECT_EQ(one.face_patch, two.face_patch);
 }
 
 TEST(CrackMesh, AFrontInsideTheSolidIsRefusedForNow) {
