@@ -11,8 +11,10 @@ import sys
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-KIND_NAMES = ["interior", "fringe", "edge", "vertex"]
-KIND_COLOURS = [(0.85, 0.85, 0.80), (0.35, 0.60, 0.85), (0.90, 0.45, 0.25), (0.80, 0.20, 0.45)]
+# Kinds 4 and 5: the cells of an interface's or a crack's seeds (on its facets, on its curves).
+KIND_NAMES = ["interior", "fringe", "edge", "vertex", "interface or crack", "its curves"]
+KIND_COLOURS = [(0.85, 0.85, 0.80), (0.35, 0.60, 0.85), (0.90, 0.45, 0.25), (0.80, 0.20, 0.45), (0.95, 0.80, 0.20),
+                (0.45, 0.75, 0.35)]
 
 
 def field(grid, name):
@@ -60,16 +62,17 @@ def main(mesh, out, colour="kind", width=1200, height=900):
     mapper.SetInputData(shown)
     if colour == "kind":
         table = vtk.vtkLookupTable()
-        table.SetNumberOfTableValues(4)
-        for k, rgb in enumerate(KIND_COLOURS):
+        kinds = len(KIND_NAMES) if grid.GetCellData().GetArray("kind").GetRange()[1] >= 4 else 4
+        table.SetNumberOfTableValues(kinds)
+        for k, rgb in enumerate(KIND_COLOURS[:kinds]):
             table.SetTableValue(k, *rgb, 1.0)
             table.SetAnnotation(vtk.vtkVariant(k), KIND_NAMES[k])
-        table.SetTableRange(0, 3)
+        table.SetTableRange(0, kinds - 1)
         table.IndexedLookupOn()
         mapper.SetLookupTable(table)
         mapper.SetScalarModeToUseCellFieldData()
         mapper.SelectColorArray("kind")
-        mapper.SetScalarRange(0, 3)
+        mapper.SetScalarRange(0, kinds - 1)
     else:
         if shown.GetCellData().GetArray(colour) is None:
             cd = shown.GetCellData()
