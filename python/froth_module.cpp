@@ -271,6 +271,7 @@ PYBIND11_MODULE(_froth, m) {
                              })
       .def_property_readonly("patch_names", [](const Mesh& m) { return m.mesh.patch_names; })
       .def_property_readonly("region_names", [](const Mesh& m) { return m.mesh.region_names; })
+      .def_property_readonly("crack_names", [](const Mesh& m) { return m.mesh.crack_names; })
       .def_property_readonly("cell_data", &cell_data)
       .def_property_readonly("r", [](const Mesh& m) { return m.run.r; })
       .def_property_readonly("seed", [](const Mesh& m) { return m.run.seed; })

@@ -4,8 +4,8 @@
   python3 scripts/trials.py N [--seed S] [--froth build/froth] [--work DIR] [--jobs J]
                               [--cells LO HI] [--check] [--quiet]
 
-Each trial draws (part, cell count, seed, --grade, --weld, threads) from a stream seeded by S and
-runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
+Each trial draws (part, cell count, seed, --grade or a random through crack, --weld, threads) from
+a stream seeded by S and runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
 regions as one multi-region run), the real public parts of tests/data/corpus, and the hard shapes
 of scripts/hard_shapes.py (made in the work folder). A trial fails if froth exits with any code but
 0: every part is valid. With --check each mesh is also read back with VTK (/usr/bin/python3 with
@@ -67,11 +67,74 @@ def parts(work):
     return out
 
 
-def draw(rng, all_parts, lo, hi):
+def bounds(path):
+    """The box around a surface file's vertices (STL, OBJ, OFF), or None for another format."""
+    xs = []
+    ext = os.path.splitext(path)[1].lower()
+    data = open(path, "rb").read()
+    if ext == ".stl":
+        if data[:5] == b"solid" and b"facet" in data[:1000]:
+            xs = [tuple(map(float, l.split()[1:4])) for l in data.decode(errors="replace").splitlines()
+                  if l.strip().startswith("vertex")]
+        else:
+            import struct
+            n = struct.unpack_from("<I", data, 80)[0]
+            for t in range(n):
+                v = struct.unpack_from("<12f", data, 84 + 50 * t)
+                xs += [v[3:6], v[6:9], v[9:12]]
+    elif ext == ".obj":
+        xs = [tuple(map(float, l.split()[1:4])) for l in data.decode(errors="replace").splitlines() if l.startswith("v ")]
+    elif ext == ".off":
+        words = [l.split("#")[0].split() for l in data.decode(errors="replace").splitlines()]
+        words = [w for w in words if w]
+        first = 1 if words[0][0].upper() == "OFF" and len(words[0]) == 1 else 0
+        head = words[first] if first else words[0][1:]
+        n = int(head[0])
+        xs = [tuple(map(float, w[:3])) for w in words[first + 1:first + 1 + n]]
+    if not xs:
+        return None
+    return [min(x[k] for x in xs) for k in range(3)], [max(x[k] for x in xs) for k in range(3)]
+
+
+def crack_sheet(rng, part, path):
+    """A through crack for `part`: a plane through a random point of the middle of its box, facing
+    a random way, as a square reaching past the box on every side (8 triangles, OBJ)."""
+    box = bounds(part)
+    if box is None:
+        return False
+    lo, hi = box
+    centre = [lo[k] + (0.2 + 0.6 * rng.random()) * (hi[k] - lo[k]) for k in range(3)]
+    n = [rng.gauss(0, 1) for _ in range(3)]
+    norm = math.sqrt(sum(c * c for c in n))
+    n = [c / norm for c in n]
+    a = [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0]
+    u = [n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]]
+    un = math.sqrt(sum(c * c for c in u))
+    u = [c / un for c in u]
+    v = [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
+    half = math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3)))
+    with open(path, "w") as f:
+        for j in range(3):
+            for i in range(3):
+                p = [centre[k] + (i - 1) * half * u[k] + (j - 1) * half * v[k] for k in range(3)]
+                f.write("v %.17g %.17g %.17g\n" % tuple(p))
+        for j in range(2):
+            for i in range(2):
+                q = 3 * j + i + 1
+                f.write("f %d %d %d\nf %d %d %d\n" % (q, q + 1, q + 4, q, q + 4, q + 3))
+    return True
+
+
+def draw(rng, all_parts, lo, hi, work, k):
     part = rng.choice(all_parts)
     cells = int(round(math.exp(rng.uniform(math.log(lo), math.log(hi)))))
     options = ["--cells", str(cells), "--seed", str(rng.getrandbits(32))]
-    if rng.random() < 0.25:
+    # A fifth of the single-solid trials cut along a random through crack (no --grade with it).
+    if len(part) == 1 and rng.random() < 0.2:
+        sheet = os.path.join(work, "crack_%d.obj" % k)
+        if crack_sheet(rng, part[0], sheet):
+            options += ["--crack", sheet]
+    if "--crack" not in options and rng.random() < 0.25:
         options.append("--grade")
     weld = rng.random()
     if weld < 0.3:
@@ -146,7 +209,7 @@ def main():
     os.makedirs(a.work, exist_ok=True)
     all_parts = parts(a.work)
     rng = random.Random(a.seed)
-    trials = [draw(rng, all_parts, *a.cells) for _ in range(a.n)]
+    trials = [draw(rng, all_parts, *a.cells, a.work, k) for k in range(a.n)]
     log = open(os.path.join(a.work, "trials_seed%d.jsonl" % a.seed), "w")
     failed = 0
     check, check_pool = checker(a.jobs) if a.check else (None, None)

@@ -87,6 +87,9 @@ struct PolyMesh {
   // region_names. Empty: one region. Faces between cells of two regions are interface faces.
   std::vector<int32_t> region;
   std::vector<std::string> region_names;
+  // A solid cut along cracks (froth/domain.hpp's load_cracks): their names, NAME of the patches
+  // crack_NAME_a and crack_NAME_b. Empty: no cracks.
+  std::vector<std::string> crack_names;
   // The stages' per-face data while the mesh is built (src/common/face_scratch.hpp); null in a
   // finished mesh.
   std::shared_ptr<FaceScratch> scratch;

@@ -308,6 +308,17 @@ class Reader {
   bool appended_base64_ = false, header64_ = false, compressed_ = false;
 };
 
+// A string array's names (each name's bytes, then 0), as names_field_data writes them.
+std::vector<std::string> string_values(const Reader& rd, pugi::xml_node a) {
+  std::vector<std::string> out;
+  std::string name;
+  for (int64_t ch : rd.field_values<int64_t>(a)) {
+    if (ch != 0) name += char(ch);
+    else out.push_back(name), name.clear();
+  }
+  return out;
+}
+
 }  // namespace
 
 PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded) {
@@ -419,14 +430,9 @@ PolyMesh read_vtu(const std::filesystem::path& path, RunReport* recorded) {
     const std::vector<int64_t> p = rd.values<int64_t>(region, nc);
     if (p.size() != nc) bad(path, "the region array does not have one value per cell");
     for (int64_t v : p) m.region.push_back(int32_t(std::clamp<int64_t>(v, 0, INT32_MAX)));
-    if (auto names = rd.field("region_names")) {
-      std::string name;
-      for (int64_t ch : rd.field_values<int64_t>(names)) {
-        if (ch != 0) name += char(ch);
-        else m.region_names.push_back(name), name.clear();
-      }
-    }
+    if (auto names = rd.field("region_names")) m.region_names = string_values(rd, names);
   }
+  if (auto names = rd.field("crack_names")) m.crack_names = string_values(rd, names);
   // froth's r and graded radii, so that the bounds are judged as in the run (quality.hpp).
   if (const auto r = rd.scalar_field("r"); r && *r > 0) m.r = *r;
   // froth's volumes and centres, as written (a solver's formats carry them on).

@@ -153,18 +153,19 @@ std::string grading_field_data(const RunReport& run) {
                      floor, run.grading);
 }
 
-// A multi-region mesh's region names, cell data `region` indexing them: a VTK string array
-// (ascii: each name's bytes, then 0), as vtkStringArray reads it.
-std::string region_field_data(const PolyMesh& m) {
-  if (m.region_names.empty()) return "";
+// Names as a VTK string array (ascii: each name's bytes, then 0), as vtkStringArray reads it;
+// nothing for none. A multi-region mesh's region names (cell data `region` indexes them), a
+// cracked solid's crack names.
+std::string names_field_data(const char* field, const std::vector<std::string>& names) {
+  if (names.empty()) return "";
   std::string bytes;
-  for (const std::string& name : m.region_names) {
+  for (const std::string& name : names) {
     for (unsigned char ch : name) bytes += fmt::format("{} ", int(ch));
     bytes += "0 ";
   }
   bytes.pop_back();
-  return fmt::format("<DataArray type=\"String\" Name=\"region_names\" NumberOfTuples=\"{}\" format=\"ascii\">{}</DataArray>\n",
-                     m.region_names.size(), bytes);
+  return fmt::format("<DataArray type=\"String\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">{}</DataArray>\n",
+                     field, names.size(), bytes);
 }
 
 std::string version_numbers(std::string v) {
@@ -275,7 +276,7 @@ void write_vtu(const PolyMesh& m, const RunReport& run, const std::filesystem::p
       << fmt::format("<DataArray type=\"Int32\" Name=\"version\" NumberOfTuples=\"3\" format=\"ascii\">{}</DataArray>\n",
                      version_numbers(FROTH_VERSION))
       << grading_field_data(run)
-      << region_field_data(m)
+      << names_field_data("region_names", m.region_names) << names_field_data("crack_names", m.crack_names)
       << "</FieldData>\n"
       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.points.size(), n)
       << "<Points>\n" << raw_array(w, m.points, "Float64", "Points", 3) << "</Points>\n<Cells>\n";

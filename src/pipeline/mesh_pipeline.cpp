@@ -378,7 +378,11 @@ void finish_mesh(const Domain& domain, PolyMesh& mesh, const MeshOptions& opt, R
   }
   run.border_area = border_area(mesh);
   if (domain.regions) measure_regions(*domain.regions, mesh, run);
-  if (domain.cracks) measure_cracks(*domain.cracks, mesh, run);
+  if (domain.cracks) {
+    measure_cracks(*domain.cracks, mesh, run);
+    mesh.crack_names.clear();
+    for (const CrackSheet& c : domain.cracks->sheets) mesh.crack_names.push_back(c.name);
+  }
   // Summed in cell order so the figure is the same for any thread count.
   run.volume_sum = 0;
   for (double v : mesh.volumes) run.volume_sum += v;

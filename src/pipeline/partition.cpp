@@ -144,6 +144,7 @@ PolyMesh extract_cells(const PolyMesh& m, size_t begin, size_t end, size_t& othe
   if (!m.piece.empty()) out.piece.assign(m.piece.begin() + begin, m.piece.begin() + end);
   if (!m.region.empty()) out.region.assign(m.region.begin() + begin, m.region.begin() + end);
   out.region_names = m.region_names;
+  out.crack_names = m.crack_names;
   if (!m.radii.empty()) {
     out.radii.assign(m.radii.begin() + begin, m.radii.begin() + end);
     for (size_t c = begin; c < end; ++c) out.near_graded.push_back(graded_near(m, c));  // the ring knows every neighbour

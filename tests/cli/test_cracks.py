@@ -77,8 +77,12 @@ def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, work)
             check(all(on_sheet(x) for x in poly), f"{label}: boundary face {c} of crack_{name}_{side} off the sheet")
             total += polygon_area(poly)
         check(abs(total - area) <= 1e-9 * area, f"{label} seed {seed}: boundary file's side {side} {total} against {area}")
-    # The mesh: faces on the sheet are in one cell each, and the two sides share no point.
+    # The mesh: its field data names the crack; faces on the sheet are in one cell each, and the
+    # two sides share no point.
     g = read_vtk(out)
+    cracks = g.GetFieldData().GetAbstractArray("crack_names")
+    check(cracks is not None and [cracks.GetValue(k) for k in range(cracks.GetNumberOfValues())] == [name],
+          f"{label}: field data crack_names")
     gp = vtk_to_numpy(g.GetPoints().GetData())
     seen = {}
     for c in range(g.GetNumberOfCells()):

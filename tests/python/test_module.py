@@ -133,6 +133,7 @@ def test_cracks_match_the_command_line(tmp_path):
     mesh.write(tmp_path / "py.vtu")
     cli("mesh", BOX, "--crack", sheet, "-r", "0.12", "--seed", "2", "-q", "-o", tmp_path / "cli.vtu")
     assert same_bytes(tmp_path / "py.vtu", tmp_path / "cli.vtu")
+    assert mesh.crack_names == ["box_through"] and froth.read(tmp_path / "py.vtu").crack_names == ["box_through"]
     members = list(froth.ensemble(BOX, 0.2, 2, cracks=[sheet]))
     assert all(m.report["cracks"][0]["faces_a"] > 0 for m in members)
     with pytest.raises(froth.UsageError, match="front"):
