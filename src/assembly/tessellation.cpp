@@ -31,6 +31,8 @@
 #include "assembly/holed_faces.hpp"
 #include "assembly/region_cells.hpp"
 #include "assembly/split_pieces.hpp"
+#include "assembly/glue_extensions.hpp"
+#include "input/cracked_domain.hpp"
 
 namespace froth {
 namespace {
@@ -449,6 +451,9 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     }
   split_pieces(mesh, split, domain.regions.get(), domain.cracks != nullptr);
   if (merged_degenerate) drop_repeated_vertices(mesh);
+  if (domain.cracks)
+    if (const std::string error = glue_extensions(mesh, domain.cracks->extension_planes, 1e-9 * r); !error.empty())
+      fail(ErrorKind::Internal, error);
   if (times) times->assembly = seconds_since(t0);
   return mesh;
 }

@@ -13,6 +13,7 @@
 #include "common/tolerances.hpp"
 #include "common/union_find.hpp"
 #include "clip/face_loops.hpp"
+#include "input/cracked_domain.hpp"
 
 namespace froth {
 
@@ -152,7 +153,20 @@ struct CellClipper::Call {
 };
 
 CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens, const TriangleGrid& triangles)
-    : domain_(domain), gens_(gens), triangles_(triangles), s_(std::make_unique<Scratch>()) {}
+    : domain_(domain), gens_(gens), triangles_(triangles), s_(std::make_unique<Scratch>()) {
+  if (!domain.cracks) return;
+  // The generators of the cracks' sheets: their facets (after the solid's), edges and vertices.
+  const auto& T = domain.surface.triangles;
+  on_crack_.assign(size_t(-gens.vertex(int32_t(domain.surface.vertices.size()))), 0);
+  for (size_t t = 0; t < T.size(); ++t) {
+    if (size_t(domain.triangle_plane[t]) < domain.cracks->solid.planes.size()) continue;
+    on_crack_[size_t(-gens.plane(domain.triangle_plane[t]) - 1)] = 1;
+    for (int k = 0; k < 3; ++k) {
+      on_crack_[size_t(-gens.edge(gens.triangle_edges[t][size_t(k)]) - 1)] = 1;
+      on_crack_[size_t(-gens.vertex(T[t][size_t(k)]) - 1)] = 1;
+    }
+  }
+}
 CellClipper::~CellClipper() = default;
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
@@ -392,6 +406,43 @@ void CellClipper::order_twin_crossings(std::vector<int32_t>& along, Vec3 dir) co
       std::swap(along[k], along[k + 1]);
 }
 
+// A crack's two copies cross a face of V along the same segment, with its own points for
+// each copy, except at the rim of a sheet, where the copies meet (a front, or the rim of the
+// skirt that extends a front, input/cracked_domain.hpp): a segment of the surface with both ends
+// there is crossed both ways, a fin of the face of no area, and both are dropped.
+void CellClipper::drop_fins(std::vector<DirectedEdge>& segs) {
+  if (segs.size() < 2) return;
+  std::vector<DirectedEdge>& sorted = s_->kept;
+  sorted = segs;
+  std::sort(sorted.begin(), sorted.end());
+  std::erase_if(segs, [&](const DirectedEdge& e) {
+    return std::binary_search(sorted.begin(), sorted.end(), DirectedEdge{e.to, e.from});
+  });
+}
+
+// The trace of a fin that the segments above do not cancel (its copies' points between its ends
+// are their own, dropped as seam points or not): a loop of no area whose every point lies on a
+// crack's sheet. Dropped with loops of fewer than three points.
+void CellClipper::drop_flat_crack_loops(Loops& ls, double negligible) const {
+  const std::vector<Names>& keys = s_->keys;
+  auto on_sheet = [&](int32_t p) {
+    for (int k = 0; k < keys[p].n; ++k)
+      if (const int32_t g = keys[p].gen[k]; g < 0 && size_t(-g - 1) < on_crack_.size() && on_crack_[size_t(-g - 1)])
+        return true;
+    return false;
+  };
+  Loops kept;
+  for (size_t k = 0; k < ls.size(); ++k) {
+    const auto loop = ls[k];
+    if (loop.size() < 3 ||
+        (norm(loop_area(s_->pts, loop)) <= negligible && std::all_of(loop.begin(), loop.end(), on_sheet)))
+      continue;
+    kept.ids.insert(kept.ids.end(), loop.begin(), loop.end());
+    kept.begin.push_back(uint32_t(kept.ids.size()));
+  }
+  ls = std::move(kept);
+}
+
 // 3. Each face of V cut to its part inside D: its inside edge pieces and the cross-section.
 // The faces are built in `out` in place: it is only read on success.
 std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
@@ -404,6 +455,7 @@ std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
   for (size_t f = 0; f < c.nf; ++f) {
     const int32_t g = cell.face_generator(f);
     segs.assign(w.on_face[f].begin(), w.on_face[f].end());
+    if (domain_.cracks) drop_fins(segs);
     for (uint32_t e = w.edge_begin[f]; e < w.edge_begin[f + 1]; ++e) {
       const int32_t u = w.edges[e].u, v = w.edges[e].w;
       const Vec3 pu = cell.vertex(u), dir = cell.vertex(v) - pu;
@@ -425,6 +477,7 @@ std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
     if (ConvexCell::is_cube_generator(g)) return Result::ReachesCube;
     if (!w.chain(segs, w.plane[f].normal)) return c.fail(fmt::format("the face on generator {} does not close", g));
     drop_seam_points(w.loops);
+    if (domain_.cracks) drop_flat_crack_loops(w.loops, negligible);
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
     // in-plane frame is this one mirrored), so the faces still match.
@@ -484,12 +537,39 @@ CellClipper::Result CellClipper::close_cell(const Call& c) {
     if (face_loop[f] == 1) outer = f;
     if (face_loop[f] == 2) parts.unite(faces[outer][0], faces[f][0]);
   }
+  // A crack's fin cut off from the rest (its traces on V's faces dropped above): a piece of no
+  // volume bounded by the two copies of a sheet alone, dropped.
+  std::vector<uint8_t> fin(faces.size(), 0);
+  if (domain_.cracks) {
+    std::vector<std::pair<int32_t, size_t>> by_piece;  // (root, face)
+    for (size_t f = 0; f < faces.size(); ++f) by_piece.push_back({parts.find(faces[f][0]), f});
+    std::sort(by_piece.begin(), by_piece.end());
+    for (size_t at = 0; at < by_piece.size();) {
+      size_t end = at;
+      double volume6 = 0;
+      bool on_sheets = true;
+      for (; end < by_piece.size() && by_piece[end].first == by_piece[at].first; ++end) {
+        const size_t f = by_piece[end].second;
+        const int32_t g = c.out.face_gen_[f];
+        on_sheets &= g < 0 && size_t(-g - 1) < on_crack_.size() && on_crack_[size_t(-g - 1)];
+        const auto face = faces[f];
+        for (size_t k = 1; k + 1 < face.size(); ++k)
+          volume6 += dot(w.pts[face[0]], cross(w.pts[face[k]], w.pts[face[k + 1]]));
+      }
+      if (on_sheets && std::abs(volume6) <= 6e-12 * c.half * c.half * c.half)
+        for (size_t k = at; k < end; ++k) fin[by_piece[k].second] = 1;
+      at = end;
+    }
+  }
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(w.pts.size(), -1);
   out.points_.clear(), out.names_.clear();
   out.face_start_.assign(1, 0), out.face_vert_.clear();
   out.pieces_ = 0;
+  size_t kept = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
+    if (fin[f]) continue;
+    out.face_gen_[kept] = out.face_gen_[f], out.face_loop_[kept++] = out.face_loop_[f];
     for (int32_t p : faces[f]) {
       if (used_map[p] < 0) {
         const int32_t root = parts.find(p);
@@ -502,7 +582,8 @@ CellClipper::Result CellClipper::close_cell(const Call& c) {
     }
     out.face_start_.push_back(uint32_t(out.face_vert_.size()));
   }
-  if (faces.size() == 0) return c.fail("the cell lies outside the domain");
+  out.face_gen_.resize(kept), out.face_loop_.resize(kept);
+  if (kept == 0) return c.fail("the cell lies outside the domain");
   if (out.points_.size() > 65535) return c.fail(fmt::format("the cell has {} vertices, over 65,535", out.points_.size()));
   return Result::Clipped;
 }

@@ -42,15 +42,15 @@ TriangleSurface corefined_surface(const Domain& solid, const std::vector<CrackSh
   return any ? from_exact_mesh(surface) : solid.surface;
 }
 
-// For each triangle of the corefined surface, the solid's triangle it lies in (the nearest to its
-// centroid, which lies inside it).
-std::vector<int32_t> parent_triangles(const Domain& solid, const TriangleSurface& cut) {
+// For each triangle of `cut` (a surface split from `whole`, as a corefinement or a clip splits
+// it), the triangle of `whole` it lies in: the nearest to its centroid, which lies inside it.
+std::vector<int32_t> parent_triangles(const TriangleSurface& whole, const TriangleSurface& cut) {
   std::vector<int32_t> parent(cut.triangles.size());
-  if (cut.triangles.size() == solid.surface.triangles.size() && cut.triangles == solid.surface.triangles) {
+  if (cut.triangles == whole.triangles && cut.vertices == whole.vertices) {
     for (size_t t = 0; t < parent.size(); ++t) parent[t] = int32_t(t);
     return parent;
   }
-  const InexactMesh mesh = to_cgal_mesh<InexactMesh>(solid.surface);
+  const InexactMesh mesh = to_cgal_mesh<InexactMesh>(whole);
   using Primitive = CGAL::AABB_face_graph_triangle_primitive<InexactMesh>;
   using Tree = CGAL::AABB_tree<CGAL::AABB_traits<InexactKernel, Primitive>>;
   Tree tree(faces(mesh).first, faces(mesh).second, mesh);
@@ -64,9 +64,49 @@ std::vector<int32_t> parent_triangles(const Domain& solid, const TriangleSurface
   return parent;
 }
 
-// A sheet's facet planes: edge-connected groups of exactly coplanar triangles, Newell normal
-// along the sheet's normal (side a), offset averaged over the corners. Appends to `planes`.
-std::vector<int32_t> sheet_facets(const TriangleSurface& s, std::vector<Plane>& planes) {
+// The sheet as given, extended beyond each of its free edges that reaches into the solid (its
+// front, where it meets the surface from inside) by a skirt `width` wide: a quad per edge in the
+// plane of the edge's triangle, its outer corners along the mitred outward direction at each end,
+// wound with the sheet. `skirt` marks the added triangles.
+TriangleSurface with_skirt(const TriangleSurface& given, const Domain& solid, double width, std::vector<uint8_t>& skirt) {
+  TriangleSurface out = given;
+  const auto& V = given.vertices;
+  std::map<std::pair<int32_t, int32_t>, int> uses;
+  for (const auto& t : given.triangles)
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[size_t(k)], t[size_t((k + 1) % 3)])];
+  std::vector<std::array<int32_t, 2>> edges;
+  std::map<int32_t, Vec3> outward;  // at each end of a skirted edge, the sum of its edges' directions
+  for (const auto& t : given.triangles) {
+    const Vec3 n = cross(V[size_t(t[1])] - V[size_t(t[0])], V[size_t(t[2])] - V[size_t(t[0])]);
+    for (int k = 0; k < 3; ++k) {
+      const int32_t u = t[size_t(k)], v = t[size_t((k + 1) % 3)];
+      if (uses[std::minmax(u, v)] != 1) continue;
+      if (!solid.contains(V[size_t(u)]) && !solid.contains(V[size_t(v)]) && !solid.contains(0.5 * (V[size_t(u)] + V[size_t(v)])))
+        continue;
+      edges.push_back({u, v});
+      const Vec3 m = cross(V[size_t(v)] - V[size_t(u)], n);
+      const Vec3 unit_m = (1 / norm(m)) * m;
+      outward[u] = outward[u] + unit_m, outward[v] = outward[v] + unit_m;
+    }
+  }
+  std::map<int32_t, int32_t> far;
+  for (const auto& [v, m] : outward) {
+    far[v] = int32_t(out.vertices.size());
+    out.vertices.push_back(V[size_t(v)] + (width / norm(m)) * m);
+  }
+  skirt.assign(given.triangles.size(), 0);
+  for (const auto& [u, v] : edges) {
+    out.triangles.push_back({v, u, far[u]});
+    out.triangles.push_back({v, far[u], far[v]});
+    skirt.push_back(1), skirt.push_back(1);
+  }
+  return out;
+}
+
+// A sheet's facet planes: edge-connected groups of exactly coplanar triangles of one `kind`
+// (the sheet's or its skirt's), Newell normal along the sheet's normal (side a), offset averaged
+// over the corners. Appends to `planes`.
+std::vector<int32_t> sheet_facets(const TriangleSurface& s, const std::vector<uint8_t>& kind, std::vector<Plane>& planes) {
   const auto& V = s.vertices;
   const auto& T = s.triangles;
   std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> edges;
@@ -77,7 +117,7 @@ std::vector<int32_t> sheet_facets(const TriangleSurface& s, std::vector<Plane>& 
     }
   UnionFind coplanar(T.size());
   for (const auto& [e, tris] : edges) {
-    if (tris.size() != 2) continue;
+    if (tris.size() != 2 || kind[size_t(tris[0])] != kind[size_t(tris[1])]) continue;
     const auto& p = T[size_t(tris[0])];
     const auto& q = T[size_t(tris[1])];
     const int32_t far = q[0] + q[1] + q[2] - e.first - e.second;
@@ -217,21 +257,31 @@ std::map<int32_t, int32_t> cut_along_lines(TriangleSurface& cut, const std::vect
 
 }  // namespace
 
-Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
+Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r) {
   if (solid.regions)
     fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
   for (const CrackSheet& c : sheets)
-    if (!c.front.empty()) {
-      const Vec3 p = c.surface.vertices[size_t(c.front[0][0])];
-      fail(ErrorKind::Usage,
-           fmt::format("crack {}: its front (the edges inside the solid, {:.6g} long, one at {}) would lie inside cells: "
-                       "splitting the cells at a crack front is not supported yet. A crack whose every edge lies on "
-                       "the solid's surface (a through crack) or a closed sheet is cut into the mesh",
-                       c.name, c.front_length, at(p)));
-    }
-  for (const CrackSheet& c : sheets)
     if (!c.on_sheets.empty())
       refuse(c, "it crosses another crack: crossing cracks are not supported yet (give them one at a time)");
+  auto set = std::make_shared<CrackSet>();
+  set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
+  set->skirt_r = set->fronts ? r : 0;
+  // The surfaces cut in: each sheet, or one with a front (once r is known) with its skirt, 2r
+  // wide: every cell the front passes through lies within r of its seed, which lies within r of
+  // the front, so the skirt's rim passes through none of them. `skirt` marks each cut sheet's
+  // skirt triangles.
+  std::vector<CrackSheet> cut = sheets;
+  std::vector<std::vector<uint8_t>> skirt(sheets.size());
+  for (size_t k = 0; k < sheets.size(); ++k) {
+    if (set->skirt_r > 0 && !sheets[k].front.empty()) {
+      std::vector<uint8_t> skirt_given;
+      const TriangleSurface plus = with_skirt(sheets[k].given, solid, 2 * r, skirt_given);
+      cut[k] = crack_from_surface(plus, sheets[k].name, solid.surface);
+      for (int32_t t : parent_triangles(plus, cut[k].surface)) skirt[k].push_back(skirt_given[size_t(t)]);
+    } else {
+      skirt[k].assign(cut[k].surface.triangles.size(), 0);
+    }
+  }
   Domain d;
   d.description = solid.description;
   d.features = solid.features;
@@ -243,8 +293,8 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   d.planes = solid.planes;
 
   TriangleSurface& s = d.surface;
-  s = corefined_surface(solid, sheets);
-  const std::vector<int32_t> parent = parent_triangles(solid, s);
+  s = corefined_surface(solid, cut);
+  const std::vector<int32_t> parent = parent_triangles(solid.surface, s);
   s.patch_names = solid.surface.patch_names;
   s.triangle_patch.clear();
   const bool patched = solid.surface.triangle_patch.size() == solid.surface.triangles.size();
@@ -255,10 +305,10 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
   }
   std::map<Key, int32_t> cut_vertex;
   for (size_t v = 0; v < s.vertices.size(); ++v) cut_vertex.emplace(key_of(s.vertices[v]), int32_t(v));
-  const std::map<int32_t, int32_t> side_b = cut_along_lines(s, sheets, cut_vertex);
+  const std::map<int32_t, int32_t> side_b = cut_along_lines(s, cut, cut_vertex);
 
-  auto set = std::make_shared<CrackSet>();
-  for (const CrackSheet& c : sheets) {
+  for (size_t k = 0; k < cut.size(); ++k) {
+    const CrackSheet& c = cut[k];
     const TriangleSurface& S = c.surface;
     // Each sheet vertex on copy a and copy b: a line vertex is the surface's (doubled for b),
     // a front vertex one new vertex for both, any other two new ones.
@@ -286,22 +336,28 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets) {
     s.patch_names.push_back(fmt::format("crack_{}_a", c.name));
     s.patch_names.push_back(fmt::format("crack_{}_b", c.name));
     set->patches.push_back({patch_a, patch_a + 1});
+    const bool skirted = std::find(skirt[k].begin(), skirt[k].end(), 1) != skirt[k].end();
+    if (skirted) s.patch_names.push_back(fmt::format("crack_{}_extension", c.name));  // (glued: on no face)
     // Copy a faces side a from behind the sheet's normal: wound against the sheet, planes
     // flipped; copy b is the sheet as wound.
     std::vector<Plane> sheet_planes;
-    const std::vector<int32_t> facet = sheet_facets(S, sheet_planes);
+    const std::vector<int32_t> facet = sheet_facets(S, skirt[k], sheet_planes);
     const int32_t first = int32_t(d.planes.size()), n = int32_t(sheet_planes.size());
     for (const Plane& p : sheet_planes) d.planes.push_back({-1.0 * p.normal, -p.offset});
     for (const Plane& p : sheet_planes) d.planes.push_back(p);
     set->plane_middle.push_back(first + n);
     set->plane_begin.push_back(first + 2 * n);
+    std::vector<uint8_t> skirt_facet(size_t(n), 0);
+    for (size_t t = 0; t < S.triangles.size(); ++t) skirt_facet[size_t(facet[t])] = skirt[k][t];
+    for (int32_t f = 0; f < n; ++f)
+      if (skirt_facet[size_t(f)]) set->extension_planes.push_back({first + f, first + n + f});
     for (int side = 0; side < 2; ++side)
       for (size_t t = 0; t < S.triangles.size(); ++t) {
         const auto& T = S.triangles[t];
         const int32_t a = copy[size_t(T[0])][side], b = copy[size_t(T[1])][side], e = copy[size_t(T[2])][side];
         s.triangles.push_back(side == 0 ? std::array<int32_t, 3>{a, e, b} : std::array<int32_t, 3>{a, b, e});
         d.triangle_plane.push_back(first + side * n + facet[t]);
-        s.triangle_patch.push_back(patch_a + side);
+        s.triangle_patch.push_back(skirt[k][t] ? patch_a + 2 : patch_a + side);
       }
   }
   d.locator = std::make_shared<SurfaceLocator>(s, true);

@@ -28,12 +28,21 @@ struct CrackSet {
   std::vector<int32_t> plane_begin{0}, plane_middle;
   // Per sheet, its patches (crack_NAME_a, crack_NAME_b) in the cut surface's patch_names.
   std::vector<std::array<int32_t, 2>> patches;
+  // A front inside the solid: each cell it passes through must be split there, so the sheet is
+  // cut extended beyond its front by a skirt 2 `skirt_r` wide (0: not yet, the cut is a slit
+  // until the mesh's r is known; run_pipeline cuts again), whose two copies are glued back into
+  // matched faces after assembly (assembly/glue_extensions.hpp). The skirts' facet planes as
+  // (copy a's, copy b's).
+  bool fronts = false;
+  double skirt_r = 0;
+  std::vector<std::array<int32_t, 2>> extension_planes;
 };
 
 // `solid` (a validated one-region domain, as load_domain makes) cut open along `sheets` (as
-// load_crack and conform_crack_sheets make them, in the solid's stored coordinates). Throws
-// Error(InvalidInput) where a sheet's cut cannot be made: two sheets meeting the solid's surface
-// at one point, or crossing each other (not yet supported), naming the point.
-Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets);
+// load_crack and conform_crack_sheets make them, in the solid's stored coordinates); where a
+// sheet has a front inside the solid and `r` > 0, along the sheet extended by its skirt (above).
+// Throws Error(InvalidInput) where a sheet's cut cannot be made: two sheets meeting the solid's
+// surface at one point, or crossing each other (not yet supported), naming the point.
+Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r = 0);
 
 }  // namespace froth

@@ -494,6 +494,16 @@ PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport&
                       PartitionReport& part) {
   run.cells_requested = given.cells;
   const MeshOptions opt = resolve_options(domain, given);
+  // A crack front inside the solid: the sheets are cut in again with their skirts, whose width
+  // follows r (input/cracked_domain.hpp); the r chosen for `cells` is kept.
+  if (const CrackSet* cracks = domain.cracks.get(); cracks && cracks->fronts && cracks->skirt_r != opt.r) {
+    MeshOptions at_r = given;
+    at_r.r = opt.r, at_r.cells = 0;
+    const Domain cut = cut_along_cracks(cracks->solid, cracks->sheets, opt.r);
+    PolyMesh mesh = run_pipeline(cut, at_r, run, comm, part);
+    run.cells_requested = given.cells;
+    return mesh;
+  }
   if (comm && opt.convex)
     fail(ErrorKind::Usage, "convex cells are not available in a partitioned run: a cut carries into cells on other ranks");
   start_run(domain, opt, run, comm ? 1.0 / comm->size() : 1.0);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <array>
 #include <set>
 
 #include "common/test_support.hpp"
@@ -26,12 +27,15 @@ Domain cracked_box(const TriangleSurface& sheet, const std::string& name) {
 
 struct CrackFaces {
   double area[2] = {0, 0};
-  size_t matched_on_sheet = 0;   // interior faces lying on the sheet's plane
+  size_t matched_on_sheet = 0;   // interior faces lying on the sheet
   size_t shared_vertices = 0;    // vertices used by faces of both sides
+  size_t shared_off_front = 0;   // of those, vertices off the front (`on_front`)
 };
 
-// The faces on the patches crack_NAME_a and _b of a sheet in the plane z = z0.
-CrackFaces crack_faces(const PolyMesh& m, const std::string& name, double z0) {
+// The faces on the patches crack_NAME_a and _b of a sheet in the plane z = z0, within `inside`
+// (a rectangle's (x0, x1, y0, y1), its edges the front; none: the whole plane, no front).
+CrackFaces crack_faces(const PolyMesh& m, const std::string& name, double z0,
+                       std::array<double, 4> inside = {-1e300, 1e300, -1e300, 1e300}) {
   CrackFaces out;
   int32_t patch[2] = {-1, -1};
   for (size_t p = 0; p < m.patch_names.size(); ++p) {
@@ -47,7 +51,8 @@ CrackFaces crack_faces(const PolyMesh& m, const std::string& name, double z0) {
     for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
       on_plane &= std::abs(m.points[m.face_vertices[k]].z - z0) < 1e-9;
     if (!is_border_generator(m.face_generator[f])) {
-      out.matched_on_sheet += on_plane;
+      const Vec3 c = test::face_centroid(m, int64_t(f));
+      out.matched_on_sheet += on_plane && c.x > inside[0] && c.x < inside[1] && c.y > inside[2] && c.y < inside[3];
       continue;
     }
     for (int s = 0; s < 2; ++s) {
@@ -57,7 +62,15 @@ CrackFaces crack_faces(const PolyMesh& m, const std::string& name, double z0) {
       for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) used[s].insert(m.face_vertices[k]);
     }
   }
-  for (int32_t v : used[0]) out.shared_vertices += used[1].count(v);
+  const double tol = 1e-12;
+  for (int32_t v : used[0]) {
+    if (!used[1].count(v)) continue;
+    ++out.shared_vertices;
+    const Vec3 p = m.points[v];
+    const bool on_front = std::abs(p.x - inside[0]) < tol || std::abs(p.x - inside[1]) < tol ||
+                          std::abs(p.y - inside[2]) < tol || std::abs(p.y - inside[3]) < tol;
+    out.shared_off_front += !on_front;
+  }
   return out;
 }
 
@@ -153,14 +166,27 @@ TEST(CrackMesh, ThreadCountsGiveTheSameMesh) {
   EXPECT_EQ(one.face_patch, two.face_patch);
 }
 
-TEST(CrackMesh, AFrontInsideTheSolidIsRefusedForNow) {
-  try {
-    cracked_box(test::square_sheet(0.25, 0.75, 0.3, 0.7, 0.5, 3), "penny");
-    FAIL() << "a penny crack was accepted";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), ErrorKind::Usage);
-    EXPECT_NE(std::string(e.what()).find("crack penny: its front"), std::string::npos) << e.what();
-  }
+TEST(CrackMesh, PennyOpensInsideItsFront) {
+  // A rectangle inside the box: its front all round, inside the solid. Each side's faces sum to
+  // its area; the sides share only points on the front; every cell is closed and has a kernel.
+  const Domain d = cracked_box(test::square_sheet(0.25, 0.75, 0.3, 0.7, 0.5, 3), "penny");
+  for (double r : {1.0 / 12, 1.0 / 20})
+    for (uint64_t seed : {1, 2}) {
+      SCOPED_TRACE(testing::Message() << "r " << r << " seed " << seed);
+      RunReport run;
+      const PolyMesh m = test::mesh_of(d, r, seed, 2, &run);
+      const MeshCheck check = check_mesh(m);
+      EXPECT_TRUE(check.ok()) << check.first_problem;
+      EXPECT_NEAR(volume_sum(m), 1.0, 1e-9);
+      const CrackFaces c = crack_faces(m, "penny", 0.5, {0.25, 0.75, 0.3, 0.7});
+      EXPECT_NEAR(c.area[0], 0.2, 1e-9);
+      EXPECT_NEAR(c.area[1], 0.2, 1e-9);
+      EXPECT_EQ(c.matched_on_sheet, 0u);
+      EXPECT_GT(c.shared_vertices, 0u);  // the crack closes at its front,
+      EXPECT_EQ(c.shared_off_front, 0u);  // and only there
+      // No slit cell (its two crack faces meeting inside it would leave it no kernel).
+      EXPECT_EQ(run.without_center, 0u);
+    }
 }
 
 }  // namespace

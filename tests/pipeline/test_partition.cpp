@@ -125,6 +125,9 @@ TEST(Partition, CrackedBoxMatchesSerial) {
   // seeds each rank keeps in its window, and the cut cells are split alike.
   const Domain d = load_cracks(load_domain("box:0,0,0,1,1,1"), {FROTH_CRACKS_DIR "/box_through.obj"});
   expect_partition_matches_serial(d, 1.0 / 20, 1e-4 / 20, 5);
+  // A penny at z = 0.5, its front inside: each rank cuts it in with its skirt and glues that back.
+  const Domain penny = load_cracks(load_domain("box:0,0,0,1,1,1"), {FROTH_CRACKS_DIR "/penny.obj"});
+  expect_partition_matches_serial(penny, 1.0 / 20, 1e-4 / 20, 6);
 }
 
 TEST(Partition, WeldingBeyondTheGhostRingStopsEveryRank) {

@@ -1,0 +1,24 @@
+// A crack front's skirt glued back (input/cracked_domain.hpp): the solid was cut along each
+// sheet extended beyond its front, so that every cell the front passes through falls into a
+// piece on each side; the skirt is no crack, so after assembly its two copies become one again.
+// Their points coincide (each copy's point of a cell's edge or face is the same point, computed
+// from the skirt's triangle wound either way) and are made one vertex; then a face on copy a and
+// the face on copy b with the same vertices are a matched pair between the two cells they
+// belong to, or, in one cell (the skirt's rim passes through it), a fin of no volume, dropped with
+// the spikes it leaves in the cell's other faces. The crack then closes at its front, where the
+// sheet's two copies meet the skirt.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "froth/mesh.hpp"
+
+namespace froth {
+
+// `planes`: the skirts' facet planes as (copy a's, copy b's); `tolerance`: how far apart two
+// copies' points may lie (a rounding error of the cells' size). Returns an error text, or "".
+std::string glue_extensions(PolyMesh& mesh, const std::vector<std::array<int32_t, 2>>& planes, double tolerance);
+
+}  // namespace froth
