@@ -4,8 +4,8 @@
   python3 scripts/trials.py N [--seed S] [--froth build/froth] [--work DIR] [--jobs J]
                               [--cells LO HI] [--check] [--quiet]
 
-Each trial draws (part, cell count, seed, --grade or a random through crack, --weld, threads) from
-a stream seeded by S and runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
+Each trial draws (part, cell count, seed, --grade or a random crack, --weld, threads) from a stream
+seeded by S and runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
 regions as one multi-region run), the real public parts of tests/data/corpus, and the hard shapes
 of scripts/hard_shapes.py (made in the work folder). A trial fails if froth exits with any code but
 0: every part is valid. With --check each mesh is also read back with VTK (/usr/bin/python3 with
@@ -97,8 +97,10 @@ def bounds(path):
 
 
 def crack_sheet(rng, part, path):
-    """A through crack for `part`: a plane through a random point of the middle of its box, facing
-    a random way, as a square reaching past the box on every side (8 triangles, OBJ)."""
+    """A crack for `part`: a plane through a random point of the middle of its box, facing a
+    random way, as a square (8 triangles, OBJ) reaching past the box on every side (a through
+    crack) or, half the time, 0.2 to 0.8 times the box's size across (a front inside the part,
+    or from its surface: a penny or an edge crack)."""
     box = bounds(part)
     if box is None:
         return False
@@ -113,6 +115,8 @@ def crack_sheet(rng, part, path):
     u = [c / un for c in u]
     v = [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
     half = math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3)))
+    if rng.random() < 0.5:
+        half *= 0.1 + 0.3 * rng.random()
     with open(path, "w") as f:
         for j in range(3):
             for i in range(3):
@@ -129,7 +133,7 @@ def draw(rng, all_parts, lo, hi, work, k):
     part = rng.choice(all_parts)
     cells = int(round(math.exp(rng.uniform(math.log(lo), math.log(hi)))))
     options = ["--cells", str(cells), "--seed", str(rng.getrandbits(32))]
-    # A fifth of the single-solid trials cut along a random through crack (no --grade with it).
+    # A fifth of the single-solid trials cut along a random crack (no --grade with it).
     if len(part) == 1 and rng.random() < 0.2:
         sheet = os.path.join(work, "crack_%d.obj" % k)
         if crack_sheet(rng, part[0], sheet):

@@ -445,9 +445,10 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
     for (int32_t k : ch.in_pieces) {
       const Sample::Protected* p = sample.protection_of(first_seed + k);
       const Vec3 x = mesh.seeds[size_t(k)];
-      // (A crack's two sides are cells of their own however small: one merged into the other
-      // would reach across the crack.)
-      split.push_back({k, p ? x + 1e-6 * r * p->inward : x, domain.cracks ? 0 : min_piece_volume});
+      // A crack's two sides are cells of their own however small (one merged into the other
+      // would reach across the crack); only a fin of no volume (clip/clip_cell.cpp) stays with
+      // the seed's piece, for glue_extensions to remove.
+      split.push_back({k, p ? x + 1e-6 * r * p->inward : x, domain.cracks ? 1e-12 * r * r * r : min_piece_volume});
     }
   split_pieces(mesh, split, domain.regions.get(), domain.cracks != nullptr);
   if (merged_degenerate) drop_repeated_vertices(mesh);

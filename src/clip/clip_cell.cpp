@@ -13,7 +13,6 @@
 #include "common/tolerances.hpp"
 #include "common/union_find.hpp"
 #include "clip/face_loops.hpp"
-#include "input/cracked_domain.hpp"
 
 namespace froth {
 
@@ -153,20 +152,7 @@ struct CellClipper::Call {
 };
 
 CellClipper::CellClipper(const Domain& domain, const SurfaceGenerators& gens, const TriangleGrid& triangles)
-    : domain_(domain), gens_(gens), triangles_(triangles), s_(std::make_unique<Scratch>()) {
-  if (!domain.cracks) return;
-  // The generators of the cracks' sheets: their facets (after the solid's), edges and vertices.
-  const auto& T = domain.surface.triangles;
-  on_crack_.assign(size_t(-gens.vertex(int32_t(domain.surface.vertices.size()))), 0);
-  for (size_t t = 0; t < T.size(); ++t) {
-    if (size_t(domain.triangle_plane[t]) < domain.cracks->solid.planes.size()) continue;
-    on_crack_[size_t(-gens.plane(domain.triangle_plane[t]) - 1)] = 1;
-    for (int k = 0; k < 3; ++k) {
-      on_crack_[size_t(-gens.edge(gens.triangle_edges[t][size_t(k)]) - 1)] = 1;
-      on_crack_[size_t(-gens.vertex(T[t][size_t(k)]) - 1)] = 1;
-    }
-  }
-}
+    : domain_(domain), gens_(gens), triangles_(triangles), s_(std::make_unique<Scratch>()) {}
 CellClipper::~CellClipper() = default;
 
 CellClipper::Result CellClipper::clip(int32_t seed, Vec3 x, Vec3 anchor, const ConvexCell& cell, double half,
@@ -420,23 +406,15 @@ void CellClipper::drop_fins(std::vector<DirectedEdge>& segs) {
   });
 }
 
-// The trace of a fin that the segments above do not cancel (its copies' points between its ends
-// are their own, dropped as seam points or not): a loop of no area whose every point lies on a
-// crack's sheet. Dropped with loops of fewer than three points.
-void CellClipper::drop_flat_crack_loops(Loops& ls, double negligible) const {
-  const std::vector<Names>& keys = s_->keys;
-  auto on_sheet = [&](int32_t p) {
-    for (int k = 0; k < keys[p].n; ++k)
-      if (const int32_t g = keys[p].gen[k]; g < 0 && size_t(-g - 1) < on_crack_.size() && on_crack_[size_t(-g - 1)])
-        return true;
-    return false;
-  };
+// A fin's trace between two points of a sheet's rim whose copies' points between them were seam
+// points: two points, no face (the neighbour drops it alike). A longer trace (a curved sheet's
+// copies cross a face at points of their own) stays, a face of no area: the fin it bounds is
+// a piece of no volume that assembly keeps with the cell and glue_extensions removes.
+void CellClipper::drop_two_point_loops(Loops& ls) const {
   Loops kept;
   for (size_t k = 0; k < ls.size(); ++k) {
     const auto loop = ls[k];
-    if (loop.size() < 3 ||
-        (norm(loop_area(s_->pts, loop)) <= negligible && std::all_of(loop.begin(), loop.end(), on_sheet)))
-      continue;
+    if (loop.size() < 3) continue;
     kept.ids.insert(kept.ids.end(), loop.begin(), loop.end());
     kept.begin.push_back(uint32_t(kept.ids.size()));
   }
@@ -477,7 +455,7 @@ std::optional<CellClipper::Result> CellClipper::cut_faces(const Call& c) {
     if (ConvexCell::is_cube_generator(g)) return Result::ReachesCube;
     if (!w.chain(segs, w.plane[f].normal)) return c.fail(fmt::format("the face on generator {} does not close", g));
     drop_seam_points(w.loops);
-    if (domain_.cracks) drop_flat_crack_loops(w.loops, negligible);
+    if (domain_.cracks) drop_two_point_loops(w.loops);
     // A hole: the surface passes through the face (a hole or pillar of the domain narrower than
     // r). The neighbour's twin face has the same loops reversed and makes the same cut (its
     // in-plane frame is this one mirrored), so the faces still match.
@@ -537,39 +515,12 @@ CellClipper::Result CellClipper::close_cell(const Call& c) {
     if (face_loop[f] == 1) outer = f;
     if (face_loop[f] == 2) parts.unite(faces[outer][0], faces[f][0]);
   }
-  // A crack's fin cut off from the rest (its traces on V's faces dropped above): a piece of no
-  // volume bounded by the two copies of a sheet alone, dropped.
-  std::vector<uint8_t> fin(faces.size(), 0);
-  if (domain_.cracks) {
-    std::vector<std::pair<int32_t, size_t>> by_piece;  // (root, face)
-    for (size_t f = 0; f < faces.size(); ++f) by_piece.push_back({parts.find(faces[f][0]), f});
-    std::sort(by_piece.begin(), by_piece.end());
-    for (size_t at = 0; at < by_piece.size();) {
-      size_t end = at;
-      double volume6 = 0;
-      bool on_sheets = true;
-      for (; end < by_piece.size() && by_piece[end].first == by_piece[at].first; ++end) {
-        const size_t f = by_piece[end].second;
-        const int32_t g = c.out.face_gen_[f];
-        on_sheets &= g < 0 && size_t(-g - 1) < on_crack_.size() && on_crack_[size_t(-g - 1)];
-        const auto face = faces[f];
-        for (size_t k = 1; k + 1 < face.size(); ++k)
-          volume6 += dot(w.pts[face[0]], cross(w.pts[face[k]], w.pts[face[k + 1]]));
-      }
-      if (on_sheets && std::abs(volume6) <= 6e-12 * c.half * c.half * c.half)
-        for (size_t k = at; k < end; ++k) fin[by_piece[k].second] = 1;
-      at = end;
-    }
-  }
   std::vector<int32_t>& used_map = w.used_map;
   used_map.assign(w.pts.size(), -1);
   out.points_.clear(), out.names_.clear();
   out.face_start_.assign(1, 0), out.face_vert_.clear();
   out.pieces_ = 0;
-  size_t kept = 0;
   for (size_t f = 0; f < faces.size(); ++f) {
-    if (fin[f]) continue;
-    out.face_gen_[kept] = out.face_gen_[f], out.face_loop_[kept++] = out.face_loop_[f];
     for (int32_t p : faces[f]) {
       if (used_map[p] < 0) {
         const int32_t root = parts.find(p);
@@ -582,8 +533,7 @@ CellClipper::Result CellClipper::close_cell(const Call& c) {
     }
     out.face_start_.push_back(uint32_t(out.face_vert_.size()));
   }
-  out.face_gen_.resize(kept), out.face_loop_.resize(kept);
-  if (kept == 0) return c.fail("the cell lies outside the domain");
+  if (faces.size() == 0) return c.fail("the cell lies outside the domain");
   if (out.points_.size() > 65535) return c.fail(fmt::format("the cell has {} vertices, over 65,535", out.points_.size()));
   return Result::Clipped;
 }

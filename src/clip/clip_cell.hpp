@@ -103,12 +103,11 @@ class CellClipper {
   void drop_seam_points(Loops& loops) const;
   void order_twin_crossings(std::vector<int32_t>& along, Vec3 dir) const;
   void drop_fins(std::vector<DirectedEdge>& segs);
-  void drop_flat_crack_loops(Loops& loops, double negligible) const;
+  void drop_two_point_loops(Loops& loops) const;
   const Domain& domain_;
   const SurfaceGenerators& gens_;
   const TriangleGrid& triangles_;
   std::unique_ptr<Scratch> s_;
-  std::vector<uint8_t> on_crack_;  // per surface generator (-g - 1): on a crack's sheet
 };
 
 }  // namespace froth

@@ -1,7 +1,7 @@
 """Cracks (issue 38), read back by readers that are not froth: a through crack in the unit box and
 across plate_holes.STL (a real part, the crack's line on its surface running round its holes), a
-closed sheet (a lens), a penny (a front all round inside the solid) and an edge crack (a front from
-face to face) in the box, at r = 1/12 and 1/20 of the solid's size and seeds 1 and 2. Checked on
+closed sheet (a lens), a penny (a front all round inside the solid), an edge crack (a front from
+face to face) and a curved crack in the box, at r = 1/12 and 1/20 of the solid's size and seeds 1 and 2. Checked on
 each mesh (VTK):
 - the report's crack faces on each side sum to the sheet's area inside the solid (1e-9), and so do
   the --boundary file's faces on patches crack_NAME_a and crack_NAME_b;
@@ -36,6 +36,30 @@ def on_sheet_plane(normal, offset, lo=(-1e300,) * 3, hi=(1e300,) * 3):
     n = np.asarray(normal, float)
     return lambda p: abs(np.dot(n, p) - offset) < 1e-9 * max(1.0, abs(offset)) and all(
         lo[k] - 1e-12 <= p[k] <= hi[k] + 1e-12 for k in range(3))
+
+
+def on_triangles(path, tol=1e-9):
+    """On the triangles of an OBJ sheet (within tol)."""
+    v, t = [], []
+    for line in open(path):
+        w = line.split()
+        if w and w[0] == "v":
+            v.append([float(x) for x in w[1:4]])
+        elif w and w[0] == "f":
+            t.append([int(x) - 1 for x in w[1:4]])
+    tris = np.asarray(v)[np.asarray(t)]
+
+    def on(p):
+        for a, b, c in tris:
+            n = np.cross(b - a, c - a)
+            n = n / np.linalg.norm(n)
+            if abs(np.dot(p - a, n)) > tol:
+                continue
+            q = p - np.dot(p - a, n) * n  # barycentric test in the plane
+            if all(np.dot(np.cross(e1 - e0, q - e0), n) >= -tol for e0, e1 in ((a, b), (b, c), (c, a))):
+                return True
+        return False
+    return on
 
 
 def on_box_edge(lo, hi):
@@ -135,7 +159,10 @@ def main():
              ("penny", box, "penny.obj", "penny", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)), up,
               on_box_edge((0.25, 0.3), (0.75, 0.7))),
              ("edge", box, "edge.obj", "edge", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0, 0.2, 0), (0.45, 0.8, 1)), up,
-              on_box_edge((-1, 0.2), (0.45, 0.8)))]
+              on_box_edge((-1, 0.2), (0.45, 0.8))),
+             # A curved sheet (a strip of a cylinder about y), its front all round.
+             ("curved", box, "curved.obj", "curved", 1.0, on_triangles(os.path.join(CRACKS, "curved.obj")),
+              lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))]
     for label, solid, sheet, name, size, on_sheet, sheet_normal, on_front in cases:
         for fraction in (12, 20):
             for seed in (1, 2):
