@@ -195,7 +195,9 @@ std::map<int32_t, int32_t> cut_along_lines(TriangleSurface& cut, const std::vect
     for (int q = 0; q < 3; ++q)
       if (lines.count(T[t][size_t(q)])) corners[T[t][size_t(q)]].push_back({int32_t(t), q});
   std::vector<std::pair<std::pair<int32_t, int>, int32_t>> moves;  // (triangle, corner) to side b's copy
-  for (const auto& [w, line_edges] : lines) {
+  for (const auto& entry : lines) {  // (not a structured binding: clang 14 cannot capture one)
+    const int32_t w = entry.first;
+    const std::vector<LineEdge>& line_edges = entry.second;
     const Vec3 pw = cut.vertices[size_t(w)];
     for (const LineEdge& e : line_edges)
       if (sheets[e.sheet].name != sheets[line_edges[0].sheet].name)

@@ -80,30 +80,39 @@ double volume_sum(const PolyMesh& m) {
   return sum;
 }
 
-TEST(CrackMesh, ThroughCrackCutsTheBoxInTwo) {
-  const Domain d = cracked_box(test::square_sheet(-0.2, 1.3, -0.1, 1.2, 0.5, 5), "through");
+// The cracked box meshed at r = 1/12 and 1/20 with seeds 1 and 2, each mesh checked (closed,
+// matched, its volume the box's) and handed to `check`.
+template <class Check>
+void for_each_mesh(const Domain& d, Check&& check) {
   for (double r : {1.0 / 12, 1.0 / 20})
     for (uint64_t seed : {1, 2}) {
       SCOPED_TRACE(testing::Message() << "r " << r << " seed " << seed);
       RunReport run;
       const PolyMesh m = test::mesh_of(d, r, seed, 2, &run);
-      const MeshCheck check = check_mesh(m);
-      EXPECT_TRUE(check.ok()) << check.first_problem;
+      const MeshCheck structure = check_mesh(m);
+      EXPECT_TRUE(structure.ok()) << structure.first_problem;
       EXPECT_NEAR(volume_sum(m), 1.0, 1e-9);
-      const CrackFaces c = crack_faces(m, "through", 0.5);
-      EXPECT_NEAR(c.area[0], 1.0, 1e-9);
-      EXPECT_NEAR(c.area[1], 1.0, 1e-9);
-      EXPECT_EQ(c.matched_on_sheet, 0u);
-      EXPECT_EQ(c.shared_vertices, 0u);
-      // No cell reaches across the crack.
-      for (size_t cell = 0; cell < m.cell_count(); ++cell) {
-        double lo = 1, hi = 0;
-        for (int64_t f = m.cell_face_begin[cell]; f < m.cell_face_begin[cell + 1]; ++f)
-          for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
-            lo = std::min(lo, m.points[m.face_vertices[k]].z), hi = std::max(hi, m.points[m.face_vertices[k]].z);
-        EXPECT_FALSE(lo < 0.5 - 1e-9 && hi > 0.5 + 1e-9) << "cell " << cell;
-      }
+      check(m, run);
     }
+}
+
+TEST(CrackMesh, ThroughCrackCutsTheBoxInTwo) {
+  const Domain d = cracked_box(test::square_sheet(-0.2, 1.3, -0.1, 1.2, 0.5, 5), "through");
+  for_each_mesh(d, [](const PolyMesh& m, const RunReport&) {
+    const CrackFaces c = crack_faces(m, "through", 0.5);
+    EXPECT_NEAR(c.area[0], 1.0, 1e-9);
+    EXPECT_NEAR(c.area[1], 1.0, 1e-9);
+    EXPECT_EQ(c.matched_on_sheet, 0u);
+    EXPECT_EQ(c.shared_vertices, 0u);
+    // No cell reaches across the crack.
+    for (size_t cell = 0; cell < m.cell_count(); ++cell) {
+      double lo = 1, hi = 0;
+      for (int64_t f = m.cell_face_begin[cell]; f < m.cell_face_begin[cell + 1]; ++f)
+        for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+          lo = std::min(lo, m.points[m.face_vertices[k]].z), hi = std::max(hi, m.points[m.face_vertices[k]].z);
+      EXPECT_FALSE(lo < 0.5 - 1e-9 && hi > 0.5 + 1e-9) << "cell " << cell;
+    }
+  });
 }
 
 // A closed sheet: an octahedron flattened in z (half-widths 0.3, 0.3, 0.08) around the box's
@@ -170,23 +179,16 @@ TEST(CrackMesh, PennyOpensInsideItsFront) {
   // A rectangle inside the box: its front all round, inside the solid. Each side's faces sum to
   // its area; the sides share only points on the front; every cell is closed and has a kernel.
   const Domain d = cracked_box(test::square_sheet(0.25, 0.75, 0.3, 0.7, 0.5, 3), "penny");
-  for (double r : {1.0 / 12, 1.0 / 20})
-    for (uint64_t seed : {1, 2}) {
-      SCOPED_TRACE(testing::Message() << "r " << r << " seed " << seed);
-      RunReport run;
-      const PolyMesh m = test::mesh_of(d, r, seed, 2, &run);
-      const MeshCheck check = check_mesh(m);
-      EXPECT_TRUE(check.ok()) << check.first_problem;
-      EXPECT_NEAR(volume_sum(m), 1.0, 1e-9);
-      const CrackFaces c = crack_faces(m, "penny", 0.5, {0.25, 0.75, 0.3, 0.7});
-      EXPECT_NEAR(c.area[0], 0.2, 1e-9);
-      EXPECT_NEAR(c.area[1], 0.2, 1e-9);
-      EXPECT_EQ(c.matched_on_sheet, 0u);
-      EXPECT_GT(c.shared_vertices, 0u);  // the crack closes at its front,
-      EXPECT_EQ(c.shared_off_front, 0u);  // and only there
-      // No slit cell (its two crack faces meeting inside it would leave it no kernel).
-      EXPECT_EQ(run.without_center, 0u);
-    }
+  for_each_mesh(d, [](const PolyMesh& m, const RunReport& run) {
+    const CrackFaces c = crack_faces(m, "penny", 0.5, {0.25, 0.75, 0.3, 0.7});
+    EXPECT_NEAR(c.area[0], 0.2, 1e-9);
+    EXPECT_NEAR(c.area[1], 0.2, 1e-9);
+    EXPECT_EQ(c.matched_on_sheet, 0u);
+    EXPECT_GT(c.shared_vertices, 0u);  // the crack closes at its front,
+    EXPECT_EQ(c.shared_off_front, 0u);  // and only there
+    // No slit cell (its two crack faces meeting inside it would leave it no kernel).
+    EXPECT_EQ(run.without_center, 0u);
+  });
 }
 
 }  // namespace
