@@ -181,9 +181,10 @@ std::string mesh_summary(const froth::RunReport& run, const std::vector<std::str
                                        run.interfaces.size()));
   }
   for (const froth::RunReport::Crack& c : run.cracks)
-    out += line("crack", fmt::format("{}: faces {:.6g} on side a, {:.6g} on side b, sheet {:.6g} inside the solid{}", c.name,
-                                     c.from_a, c.from_b, c.area,
-                                     c.clipped ? fmt::format(" (clipped from {:.6g})", c.input_area) : ""));
+    out += line("crack", fmt::format("{}: faces {:.6g} on side a, {:.6g} on side b, sheet {:.6g} inside the solid{}{}",
+                                     c.name, c.from_a, c.from_b, c.area,
+                                     c.clipped ? fmt::format(" (clipped from {:.6g})", c.input_area) : "",
+                                     c.front_length > 0 ? fmt::format(", front {:.6g} long", c.front_length) : ""));
   if (run.quality) out += line("quality", quality_text(run));
   out += line("time", time_text(run));
   if (v == Verbosity::Verbose) out += details(run);

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """docs/performance.md's one table, measured in one run at one commit: `froth mesh` end to end
 (reading to writing) on a box, on every valid test model at about 1e5 cells uniform and graded,
-on the multi-region heater, on the box cut along a through crack and a lens, with --convex and with each writer, each against a box of about the
+on the multi-region heater, on the box cut along a through crack, a lens and a penny, with --convex and with each writer, each against a box of about the
 same cells in the same run; and the whole box at 7.5e5 cells against voro++ computing the cells
 alone for the same number of seeds (froth_bench, 1 thread for voro++).
 
@@ -65,7 +65,7 @@ for name in MODELS:
         f"sampling {graded['stages'].get('sampling', 0):.2f} s")
 row("heater, 5 regions", "--cells 1e5", mesh(HEATER, "--cells", "1e5", "--seed", "1"), box)
 CRACKS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "cracks")
-for sheet in ("box_through.obj", "lens.obj"):
+for sheet in ("box_through.obj", "lens.obj", "penny.obj"):
     row(f"box cut along {sheet}", f"--cells 1e5 --crack {sheet}",
         mesh(["box:0,0,0,1,1,1"], "--cells", "1e5", "--seed", "1", "--crack", os.path.join(CRACKS, sheet)), box)
 convex = mesh([os.path.join(a.models, "hinge.stl")], "-r", "0.6", "--seed", "1", "--convex")

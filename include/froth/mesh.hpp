@@ -246,11 +246,12 @@ struct RunReport {
   };
   std::vector<Interface> interfaces;
   // A solid cut along cracks (froth/domain.hpp's load_cracks), per sheet: its area as given and
-  // inside the solid (clipped: a part lay outside), the mesh's crack faces on each side (patches
-  // crack_NAME_a and _b: each sums to the area inside) and how many.
+  // inside the solid (clipped: a part lay outside), its front's length inside the solid, the
+  // mesh's crack faces on each side (patches crack_NAME_a and _b: each sums to the area inside)
+  // and how many.
   struct Crack {
     std::string name;
-    double input_area = 0, area = 0, from_a = 0, from_b = 0;
+    double input_area = 0, area = 0, front_length = 0, from_a = 0, from_b = 0;
     size_t faces_a = 0, faces_b = 0;
     bool clipped = false;
   };

@@ -67,6 +67,7 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                            {"input_area", c.input_area},
                            {"area", c.area},
                            {"clipped", c.clipped},
+                           {"front_length", c.front_length},
                            {"area_from_a", c.from_a},
                            {"area_from_b", c.from_b},
                            {"faces_a", c.faces_a},

@@ -290,7 +290,7 @@ void measure_cracks(const CrackSet& set, const PolyMesh& mesh, RunReport& run) {
   std::vector<std::pair<size_t, int>> of_patch(mesh.patch_names.size(), {0, -1});  // patch -> (sheet, side)
   for (size_t k = 0; k < set.sheets.size(); ++k) {
     const CrackSheet& c = set.sheets[k];
-    run.cracks.push_back({c.name, c.input_area, c.area, 0, 0, 0, 0, !std::isnan(c.clipped_at.x)});
+    run.cracks.push_back({c.name, c.input_area, c.area, c.front_length, 0, 0, 0, 0, !std::isnan(c.clipped_at.x)});
     for (int side = 0; side < 2; ++side) of_patch[size_t(set.patches[k][size_t(side)])] = {k, side};
   }
   for (size_t f = 0; f < mesh.face_count(); ++f) {

@@ -88,6 +88,9 @@ def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_fr
     run = json.load(open(report))
     crack = run["cracks"][0]
     area = crack["area"]
+    fronts = {"penny": 2 * (0.5 + 0.4), "edge": 0.45 * 2 + 0.6, "box_through": 0, "plate_through": 0, "lens": 0}
+    if name in fronts:
+        check(abs(crack["front_length"] - fronts[name]) <= 1e-9, f"{label}: front length {crack['front_length']}")
     for side in ("a", "b"):
         check(abs(crack[f"area_from_{side}"] - area) <= 1e-9 * area,
               f"{label} seed {seed}: report's side {side} {crack[f'area_from_{side}']} against {area}")
