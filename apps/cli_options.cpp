@@ -29,8 +29,8 @@ CLI::Option* add_common_options(CLI::App& app, CommonArgs& a) {
         if (a.input.empty()) a.input = s;
       });
   app.add_option("--crack", a.cracks,
-                 "an open sheet (STL, OBJ, OFF, PLY) the solid is cut open along: a through crack, or a closed sheet; "
-                 "repeat for several")
+                 "a sheet (STL, OBJ, OFF, PLY) the solid is cut open along (a through, edge or penny crack, "
+                 "or a closed sheet); repeat for several")
       ->expected(1)
       ->take_all();
   CLI::Option* radius =

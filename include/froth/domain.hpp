@@ -164,10 +164,12 @@ Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions&
 // `solid` (one region, as load_domain makes) cut open along the crack sheets in `sheets` (STL,
 // OFF, OBJ or PLY files, in the solid's coordinates, each named by its file's stem): each sheet
 // is clipped to the solid (reported), and the mesh of the returned domain has each sheet's
-// faces twice, on patches crack_NAME_a and crack_NAME_b, sharing no vertex. A sheet may reach
-// the solid's surface (a through crack) or be closed (a lens); a crack front inside the solid
-// and crossing sheets are not supported yet. Throws Error: InvalidInput naming the defect and a
-// point (see input/cracks.hpp), Usage for what is not supported.
+// faces twice, on patches crack_NAME_a and crack_NAME_b, sharing vertices only along the front.
+// A sheet may reach the solid's surface (a through or edge crack), be closed (a lens) or end
+// inside the solid (a penny: the cells at its front are split there when the mesh is made, at
+// its r). Crossing sheets and a multi-region solid are not supported yet. Throws Error:
+// InvalidInput naming the defect and a point (see input/cracks.hpp), Usage for what is not
+// supported.
 Domain load_cracks(const Domain& solid, const std::vector<std::string>& sheets, const DomainOptions& options = {});
 
 }  // namespace froth
