@@ -71,16 +71,14 @@ std::vector<int32_t> parent_triangles(const TriangleSurface& whole, const Triang
 TriangleSurface with_skirt(const TriangleSurface& given, const Domain& solid, double width, std::vector<uint8_t>& skirt) {
   TriangleSurface out = given;
   const auto& V = given.vertices;
-  std::map<std::pair<int32_t, int32_t>, int> uses;
-  for (const auto& t : given.triangles)
-    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[size_t(k)], t[size_t((k + 1) % 3)])];
+  const EdgeTriangles uses = edge_triangles(given);
   std::vector<std::array<int32_t, 2>> edges;
   std::map<int32_t, Vec3> outward;  // at each end of a skirted edge, the sum of its edges' directions
   for (const auto& t : given.triangles) {
     const Vec3 n = cross(V[size_t(t[1])] - V[size_t(t[0])], V[size_t(t[2])] - V[size_t(t[0])]);
     for (int k = 0; k < 3; ++k) {
       const int32_t u = t[size_t(k)], v = t[size_t((k + 1) % 3)];
-      if (uses[std::minmax(u, v)] != 1) continue;
+      if (uses.at(std::minmax(u, v)).size() != 1) continue;
       if (!solid.contains(V[size_t(u)]) && !solid.contains(V[size_t(v)]) && !solid.contains(0.5 * (V[size_t(u)] + V[size_t(v)])))
         continue;
       edges.push_back({u, v});
@@ -109,14 +107,8 @@ TriangleSurface with_skirt(const TriangleSurface& given, const Domain& solid, do
 std::vector<int32_t> sheet_facets(const TriangleSurface& s, const std::vector<uint8_t>& kind, std::vector<Plane>& planes) {
   const auto& V = s.vertices;
   const auto& T = s.triangles;
-  std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>> edges;
-  for (size_t t = 0; t < T.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int32_t a = T[t][size_t(k)], b = T[t][size_t((k + 1) % 3)];
-      edges[{std::min(a, b), std::max(a, b)}].push_back(int32_t(t));
-    }
   UnionFind coplanar(T.size());
-  for (const auto& [e, tris] : edges) {
+  for (const auto& [e, tris] : edge_triangles(s)) {
     if (tris.size() != 2 || kind[size_t(tris[0])] != kind[size_t(tris[1])]) continue;
     const auto& p = T[size_t(tris[0])];
     const auto& q = T[size_t(tris[1])];

@@ -47,19 +47,6 @@ double area_of(const TriangleSurface& s) {
   return sum;
 }
 
-// The edges used by each number of triangles, with the triangles, for the checks below.
-using EdgeTriangles = std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>>;
-
-EdgeTriangles edge_triangles(const TriangleSurface& s) {
-  EdgeTriangles edges;
-  for (size_t t = 0; t < s.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int32_t a = s.triangles[t][size_t(k)], b = s.triangles[t][size_t((k + 1) % 3)];
-      edges[{std::min(a, b), std::max(a, b)}].push_back(int32_t(t));
-    }
-  return edges;
-}
-
 // The sheet's free edges (of one triangle), each oriented as its triangle runs it (so that a
 // front is a directed curve around side a), put on the boundary where `on_boundary` says and on
 // the front otherwise; the front's length summed.
@@ -167,6 +154,16 @@ void check_and_orient(TriangleSurface& s, const std::string& name) {
 }
 
 }  // namespace
+
+EdgeTriangles edge_triangles(const TriangleSurface& s) {
+  EdgeTriangles edges;
+  for (size_t t = 0; t < s.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = s.triangles[t][size_t(k)], b = s.triangles[t][size_t((k + 1) % 3)];
+      edges[{std::min(a, b), std::max(a, b)}].push_back(int32_t(t));
+    }
+  return edges;
+}
 
 CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid) {
   CrackSheet crack;

@@ -6,6 +6,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,10 @@ struct CrackSheet {
   double front_length = 0;
   Vec3 clipped_at{NAN, NAN, NAN};  // a point of the part clipped away, if any
 };
+
+// Each edge of a sheet, as (smaller vertex, larger), with the triangles that use it.
+using EdgeTriangles = std::map<std::pair<int32_t, int32_t>, std::vector<int32_t>>;
+EdgeTriangles edge_triangles(const TriangleSurface& s);
 
 // Reads a sheet (STL, OBJ, OFF or PLY) and keeps its part inside `solid` (a validated domain's
 // closed surface, outward). Refused (Error InvalidInput, naming the defect and a point): a

@@ -40,12 +40,9 @@ ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, 
     // Its sharp edges too (turning by more than the default feature angle, as the solid's
     // feature edges do): a closed sheet's rim is a reflex edge of the material around it.
     std::vector<std::array<int32_t, 2>> sharp;
-    std::map<std::pair<int32_t, int32_t>, std::vector<size_t>> at_edge;
-    for (size_t t = 0; t < S.triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) at_edge[std::minmax(S.triangles[t][size_t(k)], S.triangles[t][size_t((k + 1) % 3)])].push_back(t);
     const double sharp_cos = std::cos(kDefaultFeatureAngle * M_PI / 180);
-    for (const auto& [e, ts] : at_edge)
-      if (ts.size() == 2 && dot(normal_of(S, S.triangles[ts[0]]), normal_of(S, S.triangles[ts[1]])) < sharp_cos)
+    for (const auto& [e, ts] : edge_triangles(S))
+      if (ts.size() == 2 && dot(normal_of(S, S.triangles[size_t(ts[0])]), normal_of(S, S.triangles[size_t(ts[1])])) < sharp_cos)
         sharp.push_back({e.first, e.second});
     const std::vector<std::array<int32_t, 2>>* curves[] = {&c.front, &c.on_boundary, &c.on_sheets, &sharp};
     for (const auto* list : curves)
