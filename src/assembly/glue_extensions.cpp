@@ -31,6 +31,39 @@ void drop_spikes(std::vector<int32_t>& loop) {
   }
 }
 
+// Each point of a face on copy b (side_of(f) == 1) that is not on copy a (side_of == 0) too:
+// the copy-a point within `tolerance` of it, nearest first, written to at[point]; an error text
+// naming the first point without one, if `each_has_one`.
+template <class SideOf>
+std::string match_copy_points(const PolyMesh& m, SideOf&& side_of, double tolerance, std::vector<int32_t>& at,
+                              bool each_has_one = true) {
+  std::vector<int32_t> on[2];
+  for (size_t f = 0; f < m.face_count(); ++f)
+    if (const int side = side_of(f); side == 0 || side == 1)
+      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) on[side].push_back(m.face_vertices[k]);
+  for (auto& list : on) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  std::vector<int32_t> by_x = on[0];
+  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) { return m.points[a].x < m.points[b].x; });
+  for (int32_t v : on[1]) {
+    if (std::binary_search(on[0].begin(), on[0].end(), v)) continue;
+    const Vec3 p = m.points[v];
+    auto it = std::lower_bound(by_x.begin(), by_x.end(), p.x - tolerance,
+                               [&](int32_t a, double x) { return m.points[a].x < x; });
+    int32_t best = -1;
+    double best_d = tolerance;
+    for (; it != by_x.end() && m.points[*it].x <= p.x + tolerance; ++it)
+      if (const double d = norm(m.points[*it] - p); d <= best_d) best = *it, best_d = d;
+    if (best >= 0) at[size_t(v)] = best;
+    else if (each_has_one)
+      return fmt::format("a crack's extension point ({}, {}, {}) on one side has no point on the other within {}", p.x, p.y,
+                         p.z, tolerance);
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string glue_extensions(PolyMesh& m, const std::vector<std::array<int32_t, 2>>& planes, double tolerance) {
@@ -49,32 +82,11 @@ std::string glue_extensions(PolyMesh& m, const std::vector<std::array<int32_t, 2
 
   // 1. Each copy-b point made the copy-a point at its place (the skirt's rim is both copies'
   // already).
-  std::vector<int32_t> on[2];
-  for (size_t f = 0; f < nf; ++f)
-    if (const int side = copy_of_face(f).second; side >= 0)
-      for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k) on[side].push_back(m.face_vertices[k]);
-  for (auto& list : on) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
-  std::vector<int32_t> by_x = on[0];
-  std::sort(by_x.begin(), by_x.end(), [&](int32_t a, int32_t b) { return m.points[a].x < m.points[b].x; });
   std::vector<int32_t> merged(m.points.size());
   std::iota(merged.begin(), merged.end(), 0);
-  for (int32_t v : on[1]) {
-    if (std::binary_search(on[0].begin(), on[0].end(), v)) continue;
-    const Vec3 p = m.points[v];
-    auto it = std::lower_bound(by_x.begin(), by_x.end(), p.x - tolerance,
-                               [&](int32_t a, double x) { return m.points[a].x < x; });
-    int32_t best = -1;
-    double best_d = tolerance;
-    for (; it != by_x.end() && m.points[*it].x <= p.x + tolerance; ++it)
-      if (const double d = norm(m.points[*it] - p); d <= best_d) best = *it, best_d = d;
-    if (best < 0)
-      return fmt::format("a crack's extension point ({}, {}, {}) on one side has no point on the other within {}", p.x, p.y,
-                         p.z, tolerance);
-    merged[size_t(v)] = best;
-  }
+  if (const std::string error = match_copy_points(m, [&](size_t f) { return copy_of_face(f).second; }, tolerance, merged);
+      !error.empty())
+    return error;
   for (int32_t& v : m.face_vertices) v = merged[size_t(v)];
 
   // 2. The skirt's faces in pairs, one of each copy on the same points: matched between their
@@ -131,6 +143,29 @@ std::string glue_extensions(PolyMesh& m, const std::vector<std::array<int32_t, 2
   m.face_vertex_begin.assign(face_vertex_begin.begin(), face_vertex_begin.end());
   m.face_vertices.assign(face_vertices.begin(), face_vertices.end());
   return "";
+}
+
+std::vector<int32_t> crack_point_twins(const PolyMesh& m, const std::vector<std::array<int32_t, 3>>& sheet_planes,
+                                       double tolerance) {
+  std::vector<int32_t> twin(m.points.size(), -1);
+  auto side_of = [&](size_t f) {
+    const int32_t g = m.face_generator[f];
+    if (!is_border_generator(g)) return -1;
+    const int32_t plane = generator_plane(g);
+    for (const auto& [begin, middle, end] : sheet_planes)
+      if (plane >= begin && plane < end) return plane < middle ? 0 : 1;
+    return -1;
+  };
+  match_copy_points(m, side_of, tolerance, twin, false);
+  // Pairs both ways; two copy-b points at one copy-a point have no twin.
+  std::vector<int32_t> found(twin.size(), 0);
+  for (int32_t a : twin)
+    if (a >= 0) ++found[size_t(a)];
+  for (size_t v = 0; v < twin.size(); ++v)
+    if (twin[v] >= 0 && found[size_t(twin[v])] > 1) twin[v] = -1;
+  for (size_t v = 0; v < twin.size(); ++v)
+    if (twin[v] >= 0 && found[size_t(twin[v])] == 1) twin[size_t(twin[v])] = int32_t(v);
+  return twin;
 }
 
 }  // namespace froth

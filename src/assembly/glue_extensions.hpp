@@ -21,4 +21,12 @@ namespace froth {
 // copies' points may lie (a rounding error of the cells' size). Returns an error text, or "".
 std::string glue_extensions(PolyMesh& mesh, const std::vector<std::array<int32_t, 2>>& planes, double tolerance);
 
+// The two copies of each crack point, for welding to move alike (FaceScratch::point_twin): per
+// point of a face on a sheet's copy a, the point at its place (within `tolerance`) on a face of
+// its copy b, and back; -1 for other points and for the front's, which both copies share.
+// `sheet_planes`: per sheet, its copies' facet planes as [begin, middle) for copy a and
+// [middle, end) for copy b (CrackSet).
+std::vector<int32_t> crack_point_twins(const PolyMesh& mesh, const std::vector<std::array<int32_t, 3>>& sheet_planes,
+                                       double tolerance);
+
 }  // namespace froth

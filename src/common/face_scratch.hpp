@@ -16,6 +16,9 @@ struct FaceScratch {
   // --convex's split: each face's interface facet (RegionSet's facet numbering), -1 for other
   // faces; empty: none.
   std::vector<int32_t> face_interface_facet;
+  // Until welding (which moves a crack's two copies alike): per point, the point at its place
+  // on the crack's other copy (assembly/glue_extensions.hpp), -1 for none; empty: no cracks.
+  std::vector<int32_t> point_twin;
 };
 
 // The mesh's scratch, made on first use.

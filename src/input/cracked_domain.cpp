@@ -285,6 +285,7 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
   d.bounds = solid.bounds, d.origin = solid.origin;
   d.volume = solid.volume, d.surface_area = solid.surface_area;
   d.planes = solid.planes;
+  set->plane_begin = {int32_t(d.planes.size())};
 
   TriangleSurface& s = d.surface;
   s = corefined_surface(solid, cut);

@@ -238,6 +238,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
   WeldedCells welded;
   if (!(*opt.weld > 0)) {
     if (!opt.convex) scratch_of(mesh).face_interface_facet.clear();  // (--convex cuts by interface planes too)
+    scratch_of(mesh).point_twin.clear();
     return welded;
   }
   stage_starts(opt, "welding");
@@ -251,7 +252,8 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
     for (size_t i = 0; i < cells.size(); ++i) welded.before[i] = cell_verdict(mesh, cells[i]);
   };
   run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, *opt.weld, opt.r, measure_before));
-  scratch_of(mesh).face_interface_facet.clear();  // its one reader was welding
+  scratch_of(mesh).face_interface_facet.clear();  // their one reader was welding
+  scratch_of(mesh).point_twin.clear();
   run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
   return welded;
 }

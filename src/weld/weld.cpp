@@ -45,7 +45,7 @@ double cell_volume6(const PolyMesh& m, size_t c, Id&& id, At&& at, std::vector<i
 // One pass over the mesh as it is, in steps that share the clusters being decided.
 class WeldPass {
  public:
-  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r) { st.tolerance = w; }
+  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r), twin(scratch_of(static_cast<const PolyMesh&>(m)).point_twin) { st.tolerance = w; }
   WeldStats run(std::vector<std::pair<int32_t, int32_t>>& edges,
                 const std::function<void(const std::vector<size_t>&)>& before_change) {
     if (!find_short_edges(edges)) return st;
@@ -67,6 +67,8 @@ class WeldPass {
   void find_member_faces();
   void gather_planes();
   void decide_clusters();
+  void mirror_clusters();
+  void spread_refusals();
   bool refuse_pinches();
   bool refuse_off_plane();
   bool refuse_for_cells();
@@ -84,6 +86,12 @@ class WeldPass {
 
   PolyMesh& m;
   const double w, r;
+  // A crack's two copies of a point (FaceScratch::point_twin; empty: no cracks), moved alike.
+  const std::vector<int32_t>& twin;
+  int32_t twin_of(int32_t v) const { return twin.empty() ? -1 : twin[size_t(v)]; }
+  // The copy-a id of a crack point (the smaller of the two), which breaks keepers' ties the same
+  // way on both copies.
+  int32_t canonical(int32_t v) const { return std::min(v, twin_of(v) >= 0 ? twin_of(v) : v); }
   WeldStats st;
   std::vector<std::pair<int32_t, int32_t>> short_edges;
   std::vector<uint8_t> refused, member;  // per point
@@ -158,7 +166,9 @@ bool WeldPass::find_short_edges(std::vector<std::pair<int32_t, int32_t>>& edges)
 void WeldPass::find_member_faces() {
   const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
   refused.assign(m.points.size(), 0), member.assign(m.points.size(), 0);
-  for (auto [u, v] : short_edges) member[u] = member[v] = 1;
+  for (auto [u, v] : short_edges)
+    for (int32_t x : {u, v, twin_of(u), twin_of(v)})
+      if (x >= 0) member[x] = 1;
   std::vector<std::vector<int64_t>> touched(chunks);
 #pragma omp parallel for schedule(dynamic, 1)
   for (size_t ch = 0; ch < chunks; ++ch)
@@ -178,7 +188,9 @@ void WeldPass::find_member_faces() {
 }
 
 void WeldPass::gather_planes() {
-  for (auto [u, v] : short_edges) planes[u], planes[v];
+  for (auto [u, v] : short_edges)
+    for (int32_t x : {u, v, twin_of(u), twin_of(v)})
+      if (x >= 0) planes[x];
   for (int64_t f : member_faces) {
     const int32_t g = m.face_generator[f];
     const int32_t plane = is_border_generator(g)             ? generator_plane(g)
@@ -205,15 +217,12 @@ void WeldPass::decide_clusters() {
     uf = UnionFind(m.points.size());
     for (auto [u, v] : short_edges)
       if (!refused[u] && !refused[v]) uf.unite(u, v);
+    mirror_clusters();
     bool refused_any = refuse_pinches();
     refused_any |= refuse_off_plane();
     if (!refused_any) refused_any = refuse_for_cells();
     if (!refused_any) break;
-    for (bool spread = true; spread;) {  // refuse the rest of those clusters too
-      spread = false;
-      for (auto [u, v] : short_edges)
-        if (refused[u] != refused[v]) refused[u] = refused[v] = 1, spread = true;
-    }
+    spread_refusals();
   }
   {  // refused vertices stay apart in uf: their clusters are counted by their own short edges
     UnionFind refused_clusters(m.points.size());
@@ -223,6 +232,35 @@ void WeldPass::decide_clusters() {
       st.clusters_refused += refused[v] && refused_clusters.find(int32_t(v)) == int32_t(v);
   }
   find_clusters();
+}
+
+// A crack's two copies weld alike (issue 38): two crack points in one cluster put their twins in
+// one cluster too, until that holds both ways.
+void WeldPass::mirror_clusters() {
+  if (twin.empty()) return;
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<int32_t, int32_t> first;  // cluster root -> its first crack point
+    for (const auto& [v, p] : planes) {
+      const int32_t t = twin_of(v);
+      if (t < 0 || refused[v] || refused[t]) continue;
+      const auto [it, added] = first.try_emplace(uf.find(v), v);
+      if (!added) changed |= uf.unite(t, twin_of(it->second));
+    }
+  }
+}
+
+// A refused vertex refuses its cluster (the vertices joined to it by short edges, and by the
+// mirror of the clusters above: its twin).
+void WeldPass::spread_refusals() {
+  for (bool spread = true; spread;) {
+    spread = false;
+    for (auto [u, v] : short_edges)
+      if (refused[u] != refused[v]) refused[u] = refused[v] = 1, spread = true;
+    if (twin.empty()) continue;
+    for (const auto& [v, p] : planes)
+      if (const int32_t t = twin_of(v); t >= 0 && refused[v] != refused[t]) refused[v] = refused[t] = 1, spread = true;
+  }
 }
 
 // A cluster that would make a face touch itself (a vertex twice, not in a row) is refused
@@ -253,7 +291,9 @@ bool WeldPass::refuse_off_plane() {
   for (const auto& [v, p] : planes) {
     if (refused[v]) continue;
     Keeper& k = keeper[uf.find(v)];
-    if (!k.planes || p.size() > k.planes->size()) k = {v, &p};
+    if (!k.planes || p.size() > k.planes->size() ||
+        (p.size() == k.planes->size() && canonical(v) < canonical(k.vertex)))
+      k = {v, &p};
   }
   for (const auto& [v, p] : planes) {
     if (refused[v]) continue;
@@ -268,46 +308,45 @@ bool WeldPass::refuse_off_plane() {
 // the cells, from the clusters' roots found once (find compresses paths).
 bool WeldPass::refuse_for_cells() {
   bool refused_any = false;
-        for (auto [u, v] : short_edges) root[u] = uf.find(u), root[v] = uf.find(v);
-        std::vector<uint8_t> open_cell(cells.size(), 0);
-  #pragma omp parallel
-        {
-          EdgeUses closure;
-          std::vector<int32_t> face;
-  #pragma omp for schedule(dynamic, 64)
-          for (size_t i = 0; i < cells.size(); ++i) {
-            const size_t c = cells[i];
-            closure.clear();
-            for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
-              collapsed(m, f, [&](int32_t v) { return member[v] ? root[v] : v; }, face);
-              for (size_t k = 0; face.size() >= 3 && k < face.size(); ++k)
-                closure.add(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()]));
-            }
-            open_cell[i] = !closure.each_once_each_way();
-          }
-        }
-        // A cell that would close but lose half its volume or more (a piece of a cell smaller
-        // than w, cut off by an interface, flattened onto itself) keeps its vertices too.
-        find_clusters();
-  #pragma omp parallel
-        {
-          std::vector<int32_t> face;
-  #pragma omp for schedule(dynamic, 64)
-          for (size_t i = 0; i < cells.size(); ++i) {
-            if (open_cell[i]) continue;
-            const size_t c = cells[i];
-            const double before = cell_volume6(m, c, [](int32_t v) { return v; }, [&](int32_t v) { return m.points[v]; }, face);
-            const double after = cell_volume6(m, c, [&](int32_t v) { return member[v] ? root[v] : v; }, [&](int32_t v) { return destination(v); }, face);
-            open_cell[i] = !(after > 0.5 * before);
-          }
-        }
-        for (size_t i = 0; i < cells.size(); ++i) {
-          if (!open_cell[i]) continue;
-          const size_t c = cells[i];
-          for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
-            if (member[m.face_vertices[k]]) refused[m.face_vertices[k]] = 1;
-          refused_any = true;
-        }
+  for (const auto& [v, p] : planes) root[v] = uf.find(v);  // every member (twins too)
+  std::vector<uint8_t> open_cell(cells.size(), 0);
+#pragma omp parallel
+  {
+    EdgeUses closure;
+    std::vector<int32_t> face;
+#pragma omp for schedule(dynamic, 64)
+    for (size_t i = 0; i < cells.size(); ++i) {
+      const size_t c = cells[i];
+      closure.clear();
+      for (int64_t f = m.cell_face_begin[c]; f < m.cell_face_begin[c + 1]; ++f) {
+        collapsed(m, f, [&](int32_t v) { return member[v] ? root[v] : v; }, face);
+        for (size_t k = 0; face.size() >= 3 && k < face.size(); ++k)
+          closure.add(uint32_t(face[k]), uint32_t(face[(k + 1) % face.size()]));
+      }
+      open_cell[i] = !closure.each_once_each_way();
+    }
+  }
+  // A cell that would close but lose half its volume or more (a piece of a cell smaller
+  // than w, cut off by an interface, flattened onto itself) keeps its vertices too.
+  find_clusters();
+#pragma omp parallel
+  {
+    std::vector<int32_t> face;
+#pragma omp for schedule(dynamic, 64)
+    for (size_t i = 0; i < cells.size(); ++i) {
+      if (open_cell[i]) continue;
+      const size_t c = cells[i];
+      const double before = cell_volume6(m, c, [](int32_t v) { return v; }, [&](int32_t v) { return m.points[v]; }, face);
+      const double after = cell_volume6(m, c, [&](int32_t v) { return member[v] ? root[v] : v; }, [&](int32_t v) { return destination(v); }, face);
+      open_cell[i] = !(after > 0.5 * before);
+    }
+  }
+  for (size_t i = 0; i < cells.size(); ++i) {
+    if (!open_cell[i]) continue;
+    const size_t c = cells[i];
+    for (int64_t k = m.face_vertex_begin[m.cell_face_begin[c]]; k < m.face_vertex_begin[m.cell_face_begin[c + 1]]; ++k)
+      if (const int32_t v = m.face_vertices[k]; member[v] && !refused[v]) refused[v] = 1, refused_any = true;
+  }
   return refused_any;
 }
 
@@ -341,6 +380,17 @@ void WeldPass::move_points() {
   for (size_t v = 0; v < np; ++v)
     if (stays(v)) m.points[new_id[v]] = destination(int32_t(v));
   m.points.resize(size_t(kept));
+  if (!twin.empty()) {  // each cluster's twin is its twin cluster (mirror_clusters)
+    std::vector<int32_t> moved(size_t(kept), -1);
+    for (size_t v = 0; v < np; ++v)
+      if (const int32_t t = twin[v]; t >= 0 && stays(v)) {
+        const int32_t to = new_id[size_t(member[size_t(t)] ? uf.find(t) : t)];
+        if (to != new_id[v]) moved[size_t(new_id[v])] = to;
+      }
+    for (size_t v = 0; v < moved.size(); ++v)  // (only pairs both ways stay twins)
+      if (moved[v] >= 0 && moved[size_t(moved[v])] != int32_t(v)) moved[v] = -1;
+    scratch_of(m).point_twin.swap(moved);
+  }
 
 }
 

@@ -75,6 +75,54 @@ def on_lens(p):
     return abs(lens_level(p) - 1) < 1e-9
 
 
+def sides_alike(faces_a, faces_b, tol):
+    """How many faces of side a have no face of side b on the same points (within tol): welding
+    moves a crack's two copies alike, so each side's faces are the other's."""
+    if len(faces_a) != len(faces_b):
+        return abs(len(faces_a) - len(faces_b)) + 1
+    centres_b = np.array([f.mean(axis=0) for f in faces_b])
+    unmatched = 0
+    for f in faces_a:
+        g = faces_b[int(np.argmin(np.linalg.norm(centres_b - f.mean(axis=0), axis=1)))]
+        near = len(f) == len(g) and all(np.min(np.linalg.norm(g - x, axis=1)) <= tol for x in f)
+        unmatched += not near
+    return unmatched
+
+
+def side_faces(boundary, name, label):
+    """The polygons of the boundary file's patches crack_<name>_a and _b, per side."""
+    b = read_vtk(boundary)
+    names = b.GetFieldData().GetAbstractArray("patch_names")
+    names = [names.GetValue(k) for k in range(names.GetNumberOfValues())]
+    patch = vtk_to_numpy(b.GetCellData().GetArray("patch"))
+    pts = vtk_to_numpy(b.GetPoints().GetData())
+    faces = {"a": [], "b": []}
+    for side in "ab":
+        k = names.index(f"crack_{name}_{side}") if f"crack_{name}_{side}" in names else -1
+        check(k >= 0, f"{label}: patch crack_{name}_{side} in {names}")
+        for c in np.nonzero(patch == k)[0]:
+            ids = b.GetCell(int(c)).GetPointIds()
+            faces[side].append(pts[[ids.GetId(q) for q in range(ids.GetNumberOfIds())]])
+    return faces
+
+
+def check_welded_alike(label, solid, sheet, name, r, seed, weld, work):
+    """A weld far above the default merges points near the sheet that the default leaves apart:
+    the mesh stays valid and the two sides weld alike (each cluster on one side is mirrored on the
+    other). Such a weld may move the front (it cuts the corners of a polygonal front), so the
+    sheet's area is not asked for here."""
+    boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
+    p = froth("mesh", solid, "--crack", sheet, "-r", repr(r), "--seed", str(seed), "--weld", repr(weld),
+              "-o", os.path.join(work, f"{label}_{seed}.vtu"), "--boundary", boundary)
+    check(p.returncode == 0, f"{label} seed {seed}: exit {p.returncode}: {p.stderr}")
+    if p.returncode != 0:
+        return
+    check("every cell closed, every interior face matched" in p.stdout, f"{label}: the summary's checks")
+    faces = side_faces(boundary, name, label)
+    unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
+    check(unlike == 0 and faces["a"], f"{label} seed {seed}: {unlike} crack faces of side a unlike side b's")
+
+
 def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_front, work):
     out = os.path.join(work, f"{label}_{seed}.vtu")
     boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
@@ -97,21 +145,15 @@ def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_fr
     check(abs(run["volume"]["cells_sum"] - run["volume"]["domain"]) <= 1e-9 * run["volume"]["domain"],
           f"{label} seed {seed}: volume {run['volume']}")
     # The boundary file's crack patches.
-    b = read_vtk(boundary)
-    names = b.GetFieldData().GetAbstractArray("patch_names")
-    names = [names.GetValue(k) for k in range(names.GetNumberOfValues())]
-    patch = vtk_to_numpy(b.GetCellData().GetArray("patch"))
-    pts = vtk_to_numpy(b.GetPoints().GetData())
-    for s, side in enumerate("ab"):
-        k = names.index(f"crack_{name}_{side}") if f"crack_{name}_{side}" in names else -1
-        check(k >= 0, f"{label}: patch crack_{name}_{side} in {names}")
+    faces = side_faces(boundary, name, label)
+    for side in "ab":
         total = 0.0
-        for c in np.nonzero(patch == k)[0]:
-            ids = b.GetCell(int(c)).GetPointIds()
-            poly = [pts[ids.GetId(q)] for q in range(ids.GetNumberOfIds())]
+        for c, poly in enumerate(faces[side]):
             check(all(on_sheet(x) for x in poly), f"{label}: boundary face {c} of crack_{name}_{side} off the sheet")
             total += polygon_area(poly)
         check(abs(total - area) <= 1e-9 * area, f"{label} seed {seed}: boundary file's side {side} {total} against {area}")
+    unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
+    check(unlike == 0, f"{label} seed {seed}: {unlike} crack faces of side a unlike side b's (welded apart)")
     # The mesh: its field data names the crack; faces on the sheet are in one cell each, and the
     # two sides share no point.
     g = read_vtk(out)
@@ -171,6 +213,12 @@ def main():
             for seed in (1, 2):
                 check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
                            sheet_normal, on_front, work)
+    # At 0.3 r (default 1e-4 r) the two sides of these welded apart before the weld mirrored them.
+    for label, solid, sheet, name, size, *_ in cases:
+        if label in ("box_through", "penny", "curved"):
+            for seed in (1, 2):
+                check_welded_alike(f"{label}_weld", solid, os.path.join(CRACKS, sheet), name, size / 20, seed,
+                                   0.3 * size / 20, work)
 
     through = os.path.join(CRACKS, "box_through.obj")
     # OpenFOAM: the two sides as two patches, a baffle checkMesh reads.
