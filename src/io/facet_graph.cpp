@@ -1,7 +1,10 @@
 // The facet graph (NumPy .npz) for lattice, particle and finite-volume models, and peridynamic
 // nodes (text) for Peridigm and PeriLab: the mesh's cells as points with volumes, and the faces
 // between them with their areas, centroids and normals.
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -15,7 +18,7 @@
 namespace froth {
 namespace {
 
-constexpr int64_t kFacetGraphVersion = 1;
+constexpr int64_t kFacetGraphVersion = 2;  // 2: border_across
 
 struct FaceGeometry {
   double area = 0;
@@ -72,6 +75,40 @@ std::vector<double> volumes_of(const PolyMesh& m) {
   std::vector<double> v(m.cell_count());
   for (size_t c = 0; c < v.size(); ++c) v[c] = cell_volume(m, c);
   return v;
+}
+
+// Each crack face's face across the crack: the face of the sheet's other side on the same points
+// (welding moves the two sides alike), -1 for the other border faces and for a crack face that
+// has none. Matched by centroid, which the two orientations of one polygon give within rounding
+// (1e-6 r: distinct faces of one side are edges of at least the weld apart).
+std::vector<int64_t> faces_across(const PolyMesh& m, const std::vector<int64_t>& patch,
+                                  const std::vector<double>& centroid) {
+  std::vector<int64_t> across(patch.size(), -1);
+  std::map<int64_t, std::pair<size_t, int>> side_of_patch;  // patch -> (crack, side 0 or 1)
+  for (size_t k = 0; k < m.crack_names.size(); ++k)
+    for (int side = 0; side < 2; ++side) {
+      const std::string name = "crack_" + m.crack_names[k] + (side ? "_b" : "_a");
+      const auto it = std::find(m.patch_names.begin(), m.patch_names.end(), name);
+      if (it != m.patch_names.end()) side_of_patch[it - m.patch_names.begin()] = {k, side};
+    }
+  if (side_of_patch.empty()) return across;
+  std::vector<std::array<std::vector<size_t>, 2>> faces(m.crack_names.size());
+  for (size_t b = 0; b < patch.size(); ++b)
+    if (const auto it = side_of_patch.find(patch[b]); it != side_of_patch.end())
+      faces[it->second.first][size_t(it->second.second)].push_back(b);
+  const double tol = 1e-6 * (m.r > 0 ? m.r : 1.0);
+  auto at = [&](size_t b) { return Vec3{centroid[3 * b], centroid[3 * b + 1], centroid[3 * b + 2]}; };
+  for (auto& sides : faces) {
+    std::vector<size_t>& bs = sides[1];
+    std::sort(bs.begin(), bs.end(), [&](size_t x, size_t y) { return at(x).x < at(y).x; });
+    for (size_t a : sides[0]) {
+      const Vec3 p = at(a);
+      auto it = std::lower_bound(bs.begin(), bs.end(), p.x - tol, [&](size_t b, double x) { return at(b).x < x; });
+      for (; it != bs.end() && at(*it).x <= p.x + tol; ++it)
+        if (norm(at(*it) - p) <= tol) across[a] = int64_t(*it), across[*it] = int64_t(a);
+    }
+  }
+  return across;
 }
 
 }  // namespace
@@ -133,6 +170,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
       ++i;
     }
   }
+  const std::vector<int64_t> border_across = faces_across(m, border_patch, border_centroid);
   write_atomically(path, [&](std::ostream& out) {
     NpzWriter npz(out);
     npz.add("format_version", std::vector<int64_t>{kFacetGraphVersion});
@@ -155,6 +193,7 @@ void write_facet_graph(const PolyMesh& m, const std::filesystem::path& path) {
     npz.add("border_normal", border_normal, 3);
     npz.add("border_patch", border_patch);
     npz.add("border_plane", border_plane);
+    npz.add("border_across", border_across);
     npz.add("patch_names", m.patch_names.empty() ? std::vector<std::string>{"walls"} : m.patch_names);
     npz.finish();
   });

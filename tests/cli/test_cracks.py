@@ -228,6 +228,27 @@ def main():
     out = checkmesh(case).stdout
     check("Mesh OK." in out and "crack_box_through_a" in out and "crack_box_through_b" in out,
           f"checkMesh on the cracked box: {out[-2000:]}")
+    # The npz facet graph pairs each crack face with the face across the crack, in the other cell.
+    for sheet_name in ("box_through", "penny"):
+        npz = os.path.join(work, f"{sheet_name}.npz")
+        p = froth("mesh", box, "--crack", os.path.join(CRACKS, f"{sheet_name}.obj"), "-r", "0.08", "-o", npz, "-q")
+        check(p.returncode == 0, f"npz: {p.stderr}")
+        if p.returncode != 0:
+            continue
+        g = np.load(npz)
+        names = list(g["patch_names"])
+        on_crack = np.isin(g["border_patch"], [names.index(f"crack_{sheet_name}_a"), names.index(f"crack_{sheet_name}_b")])
+        across = g["border_across"]
+        pairs = across[on_crack]
+        check(on_crack.sum() > 0 and np.all(pairs >= 0) and np.all(across[~on_crack] == -1),
+              f"npz {sheet_name}: {np.sum(pairs < 0)} of {on_crack.sum()} crack faces with none across")
+        if np.all(pairs >= 0):
+            b = np.nonzero(on_crack)[0]
+            check(np.array_equal(across[pairs], b) and np.all(g["border_patch"][pairs] != g["border_patch"][b])
+                  and np.all(g["border_cell"][pairs] != g["border_cell"][b])
+                  and np.allclose(g["border_area"][pairs], g["border_area"][b], rtol=1e-9)
+                  and np.allclose(g["border_normal"][pairs], -g["border_normal"][b], atol=1e-9),
+                  f"npz {sheet_name}: border_across pairs faces of one side, one cell, or unlike faces")
     # Exodus II: a side set per side.
     exo = os.path.join(work, "cracked.exo")
     p = froth("mesh", box, "--crack", through, "-r", "0.1", "-o", exo, "-q")

@@ -111,7 +111,7 @@ for name, model, radius, convex_box in cases:
 
     # The facet graph.
     g = np.load(npz)
-    check(int(g["format_version"][0]) == 1, f"{name}: facet graph version")
+    check(int(g["format_version"][0]) == 2, f"{name}: facet graph version")
     check(len(g["cell_volume"]) == n and np.allclose(g["cell_volume"], volumes, rtol=1e-12, atol=0),
           f"{name}: facet graph volumes")
     fc = g["face_cells"]
