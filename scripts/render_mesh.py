@@ -1,13 +1,15 @@
 #!/usr/bin/python3
 """A picture of a froth mesh: the cells on one side of a plane through the middle are removed,
 so the cut shows the cells inside; coloured by cell kind or by a cell array; the title gives the
-mesh, r, seed and cell count. Rendered offscreen by VTK (python3-vtk9); without a display run it
+mesh, r, seed and cell count. A crack's faces (the mesh's unshared faces that have a twin at their
+place: the crack's two sides) are drawn in red over the cut. Rendered offscreen by VTK (python3-vtk9); without a display run it
 under xvfb-run, as `froth render` does.
 
 Usage: render_mesh.py MESH.vtu OUT.png [COLOR [WIDTH HEIGHT]]   (COLOR: kind (default) or a cell array)"""
 import os
 import sys
 
+import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
@@ -46,6 +48,37 @@ def cut_away(grid):
     surface.SetInputConnection(extract.GetOutputPort())
     surface.Update()
     return surface.GetOutput(), keep.GetNumberOfIds()
+
+
+def crack_faces(grid):
+    """The crack's faces, once each, or None for a mesh without cracks: on a crack each face of
+    one side has a face of the other at its place (froth welds the two alike), where a face of the
+    outer surface has none."""
+    names = grid.GetFieldData().GetAbstractArray("crack_names")
+    if names is None or names.GetNumberOfValues() == 0:
+        return None
+    surface = vtk.vtkDataSetSurfaceFilter()
+    surface.SetInputData(grid)
+    surface.Update()
+    # Each face's vertex mean (vtkCellCenters' parametric centre of a polygon depends on its
+    # first vertex, which differs between the two sides).
+    polys = surface.GetOutput().GetPolys()
+    offsets, ids = vtk_to_numpy(polys.GetOffsetsArray()), vtk_to_numpy(polys.GetConnectivityArray())
+    xyz = vtk_to_numpy(surface.GetOutput().GetPoints().GetData())[ids]
+    points = np.add.reduceat(xyz, offsets[:-1], axis=0) / np.diff(offsets)[:, None]
+    r = field(grid, "r") or 1.0
+    keys = np.round(points / (1e-6 * r)).astype(np.int64)
+    _, first, counts = np.unique(keys, axis=0, return_index=True, return_counts=True)
+    twice = vtk.vtkIdList()
+    for c in first[counts == 2]:
+        twice.InsertNextId(int(c))
+    extract = vtk.vtkExtractCells()
+    extract.SetInputData(surface.GetOutput())
+    extract.SetCellList(twice)
+    faces = vtk.vtkGeometryFilter()
+    faces.SetInputConnection(extract.GetOutputPort())
+    faces.Update()
+    return faces.GetOutput()
 
 
 def main(mesh, out, colour="kind", width=1200, height=900):
@@ -105,6 +138,16 @@ def main(mesh, out, colour="kind", width=1200, height=900):
     renderer.SetBackground(1, 1, 1)
     renderer.AddActor(actor)
     renderer.AddActor2D(bar)
+    crack = crack_faces(grid)
+    if crack is not None and crack.GetNumberOfCells() > 0:
+        crack_mapper = vtk.vtkPolyDataMapper()
+        crack_mapper.SetInputData(crack)
+        crack_mapper.ScalarVisibilityOff()
+        crack_actor = vtk.vtkActor()
+        crack_actor.SetMapper(crack_mapper)
+        crack_actor.GetProperty().SetColor(0.85, 0.05, 0.05)
+        crack_actor.GetProperty().SetOpacity(0.85)
+        renderer.AddActor(crack_actor)
     r, seed = field(grid, "r"), field(grid, "random_seed")
     title = os.path.basename(mesh)
     if r is not None:

@@ -249,6 +249,20 @@ def main():
                   and np.allclose(g["border_area"][pairs], g["border_area"][b], rtol=1e-9)
                   and np.allclose(g["border_normal"][pairs], -g["border_normal"][b], atol=1e-9),
                   f"npz {sheet_name}: border_across pairs faces of one side, one cell, or unlike faces")
+    # froth render draws the crack's faces in red over the cut; the uncut box has no such red.
+    reds = []
+    for label, sheet_args in (("penny", ["--crack", os.path.join(CRACKS, "penny.obj")]), ("plain", [])):
+        vtu, png = os.path.join(work, f"render_{label}.vtu"), os.path.join(work, f"render_{label}.png")
+        p = froth("mesh", box, *sheet_args, "-r", "0.08", "-o", vtu, "-q")
+        q = froth("render", vtu, "-o", png, "-q") if p.returncode == 0 else p
+        check(q.returncode == 0, f"render {label}: {q.stderr}")
+        if q.returncode == 0:
+            reader = vtk.vtkPNGReader()
+            reader.SetFileName(png)
+            reader.Update()
+            rgb = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).astype(float)
+            reds.append(int(np.sum((rgb[:, 0] > 80) & (rgb[:, 0] > 2.5 * rgb[:, 1]) & (rgb[:, 0] > 2.5 * rgb[:, 2]))))
+    check(len(reds) == 2 and reds[0] > 5000 and reds[1] == 0, f"render: crack-red pixels {reds} (penny, plain box)")
     # Exodus II: a side set per side.
     exo = os.path.join(work, "cracked.exo")
     p = froth("mesh", box, "--crack", through, "-r", "0.1", "-o", exo, "-q")
