@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "common/union_find.hpp"
 
@@ -185,8 +186,10 @@ void split_pieces(PolyMesh& m, const std::vector<SplitCell>& split, const Region
   if (regions) scratch_of(out).face_interface_facet.assign(m.face_count(), -1);
   out.face_vertex_begin.resize(m.face_count() + 1);
   out.face_vertices.resize(m.face_vertices.size());
+  // Read once here: scratch_of(m) on a mesh without scratch makes one, which threads would race.
+  const std::vector<int32_t>& face_region = scratch_of(std::as_const(m)).face_region;
   auto new_generator = [&](int32_t g, int64_t f, size_t c) {
-    const int32_t rf = scratch_of(m).face_region.empty() ? 0 : scratch_of(m).face_region[size_t(f)];
+    const int32_t rf = face_region.empty() ? 0 : face_region[size_t(f)];
     if (regions && g < 0 && regions->is_interface(generator_plane(g))) {
       // An interface face: its twin is this cell's part on the other side.
       const int32_t w = which[c];
