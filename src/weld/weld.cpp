@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "common/closed_edges.hpp"
 #include "common/face_plane.hpp"
@@ -45,7 +46,9 @@ double cell_volume6(const PolyMesh& m, size_t c, Id&& id, At&& at, std::vector<i
 // One pass over the mesh as it is, in steps that share the clusters being decided.
 class WeldPass {
  public:
-  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r), twin(scratch_of(static_cast<const PolyMesh&>(m)).point_twin) { st.tolerance = w; }
+  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r), twin(scratch_of(std::as_const(m)).point_twin) {
+    st.tolerance = w;
+  }
   WeldStats run(std::vector<std::pair<int32_t, int32_t>>& edges,
                 const std::function<void(const std::vector<size_t>&)>& before_change) {
     if (!find_short_edges(edges)) return st;
@@ -384,7 +387,7 @@ void WeldPass::move_points() {
     std::vector<int32_t> moved(size_t(kept), -1);
     for (size_t v = 0; v < np; ++v)
       if (const int32_t t = twin[v]; t >= 0 && stays(v)) {
-        const int32_t to = new_id[size_t(member[size_t(t)] ? uf.find(t) : t)];
+        const int32_t to = new_id[size_t(t)];  // (a merged point's is its root's)
         if (to != new_id[v]) moved[size_t(new_id[v])] = to;
       }
     for (size_t v = 0; v < moved.size(); ++v)  // (only pairs both ways stay twins)
