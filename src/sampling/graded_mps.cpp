@@ -1,17 +1,32 @@
 #include "sampling/graded_mps.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <iterator>
+#include <tuple>
 
 #include "common/random.hpp"
+#include "sampling/poisson_count.hpp"
 #include "common/surface_locator.hpp"
 #include "sampling/protect_interfaces.hpp"
 
 namespace froth {
 namespace {
 
-constexpr int kRoundsPerLevel = 3;
-constexpr int kMaxLevel = 30;
+// Darts per active cube per round (a Poisson mean) and the rounds of each level. They tune speed
+// only: each round is a slice of the darts' arrival times, so the law of the sample is the same
+// for any choice (test_graded's packing fraction). The first level's rounds double, as the
+// uniform sampler's do (mps_sampler.hpp): a round's darts are decided in arrival order one by one,
+// and a small first round has few that conflict with each other. A round walks the grid only
+// around the cubes that get a dart, so rounds of under one dart per cube cost under one walk per
+// cube; later levels throw one round, and refinement drops the covered cubes.
+constexpr double kLevel0DartsPerCube[] = {0.0625, 0.125, 0.25, 0.5};
+constexpr double kDartsPerCube = 1.0;
+constexpr int kMaxLevel = 40;
+// The first level whose cubes in no single disk get the two-disk test: above it most such cubes
+// hold a gap or need more disks, and the pairs cost more than refining the few they clear.
+constexpr int kFirstTwoDiskLevel = 5;
 
 // A cube of the refinement: integer coordinates in units of the base side / 2^level.
 struct Cube {
@@ -50,7 +65,6 @@ bool box_in_two_balls(Vec3 lo, double s, Vec3 c1, double h1, Vec3 c2, double h2)
 struct Dart {
   double time;
   Vec3 p;
-  bool boundary;
 };
 
 class GradedSampler {
@@ -63,42 +77,33 @@ class GradedSampler {
     s_.grid = BackgroundGrid::covering(d.bounds, r_);
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
-    head_.assign(s_.grid.cube_count(), -1);
   }
 
   Sample run() {
-    protect();
     std::vector<Cube> active = initial_cubes();
+    protect();
+    // Protection seeds are few: each marks the base cubes in its disk.
+    const std::vector<uint64_t> in_disk = subcubes_in_one_disk(0);
+    std::erase_if(active, [&](const Cube& c) { return in_disk[size_t(cube_slot(int(c.i), int(c.j), int(c.k)))] != 0; });
     const size_t initial_active = std::max<size_t>(1, active.size());
-    int level = 0;
+    int level = 0, epoch = 0;
     for (; !active.empty(); ++level) {
       SamplingLevel stats{active.size(), 0, 0};
       const size_t seeds0 = seeds_.size();
-      for (int q = 0; q < kRoundsPerLevel && !active.empty(); ++q) {
-        std::vector<Dart> darts;
-        darts.reserve(active.size());
-        for (const Cube& c : active) darts.push_back(dart(c, level, q));
-        std::sort(darts.begin(), darts.end(), [](const Dart& a, const Dart& b) { return a.time < b.time; });
-        stats.darts += darts.size();
-        // Against the seeds before the round in parallel (most darts fall in a disk), then the
-        // survivors in arrival order against the round's new seeds too: the same decisions.
-        std::vector<uint8_t> open(darts.size());
-#pragma omp parallel for schedule(dynamic, 512)
-        for (size_t k = 0; k < darts.size(); ++k)
-          open[k] = !covered(darts[k].p) && (!darts[k].boundary || d_.contains(darts[k].p));
-        for (size_t k = 0; k < darts.size(); ++k)
-          if (open[k] && !covered(darts[k].p)) add_seed(darts[k].p, h_.at(darts[k].p));
+      const int rounds = level == 0 ? int(std::size(kLevel0DartsPerCube)) : 1;
+      for (int q = 0; q < rounds; ++q, ++epoch) {
+        const Poisson poisson(level == 0 ? kLevel0DartsPerCube[q] : kDartsPerCube);
+        std::vector<Dart> darts = open_darts(active, level, q, epoch, poisson, stats.darts);
+        std::sort(darts.begin(), darts.end(), [](const Dart& a, const Dart& b) {
+          return a.time != b.time ? a.time < b.time : std::tie(a.p.x, a.p.y, a.p.z) < std::tie(b.p.x, b.p.y, b.p.z);
+        });
+        // The darts no earlier seed covers, in arrival order against the round's new seeds:
+        // the decisions of random sequential addition.
+        const int32_t round_first = int32_t(seeds_.size());
+        for (const Dart& t : darts)
+          if (!covered(t.p, round_first)) add_seed(t.p, h_.at(t.p));
         // Told after each round too (the same fraction): the caller may stop the run there.
         if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level)));
-        if (q + 1 < kRoundsPerLevel) {
-          std::vector<uint8_t> done(active.size());
-#pragma omp parallel for schedule(dynamic, 1024)
-          for (size_t a = 0; a < active.size(); ++a) done[a] = cube_covered(active[a], level);
-          size_t kept = 0;
-          for (size_t a = 0; a < active.size(); ++a)
-            if (!done[a]) active[kept++] = active[a];
-          active.resize(kept);
-        }
       }
       stats.accepted = seeds_.size() - seeds0;
       s_.stats.darts += stats.darts;
@@ -117,25 +122,128 @@ class GradedSampler {
   Vec3 corner(const Cube& c, int level) const {
     return s_.grid.origin + side(level) * Vec3{double(c.i), double(c.j), double(c.k)};
   }
-  int64_t base_of(Vec3 p) const {
-    int i, j, k;
-    s_.grid.locate(p, i, j, k);
-    return s_.grid.index(i, j, k);
-  }
 
-  // Uniform in the cube, with an arrival time within the round: the space-time process.
-  Dart dart(const Cube& c, int level, int round) const {
-    const auto w = rng_.words(uint64_t(c.i), uint64_t(c.j), uint64_t(c.k), uint64_t(level) << 8 | uint64_t(round));
+  // A round's darts into the active cubes that no seed before the round covers and that lie in
+  // the domain, with their arrival times; `thrown` counts all. Each cube gets a Poisson number of
+  // darts, uniform in it and in the round's time slice (epoch, epoch + 1): the space-time Poisson
+  // process. A cube's darts depend only on its place, level and round, and the cubes are taken in
+  // chunks of the active list, which is in space order, so the seeds near a run of darts are read
+  // once per base cube (near_disks) while they are in cache.
+  std::vector<Dart> open_darts(const std::vector<Cube>& active, int level, int round, int epoch,
+                               const Poisson& poisson, size_t& thrown) const {
+    constexpr size_t kChunk = 4096;
+    const size_t chunks = (active.size() + kChunk - 1) / kChunk;
+    std::vector<std::vector<Dart>> out(chunks);
     const double s = side(level);
-    const Vec3 p = corner(c, level) + s * Vec3{CounterRng::unit(w[0]), CounterRng::unit(w[1]), CounterRng::unit(w[2])};
-    return {double(level * kRoundsPerLevel + round) + CounterRng::unit(w[3]), p, c.boundary};
+    const uint64_t tag = uint64_t(level) << 24 | uint64_t(round) << 16;
+    size_t count = 0;
+#pragma omp parallel reduction(+ : count)
+    {
+      NearCache near;
+#pragma omp for schedule(dynamic, 1)
+      for (size_t ch = 0; ch < chunks; ++ch)
+        for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
+          const Cube& c = active[a];
+          const auto key = [&](uint64_t k) { return rng_.words(uint64_t(c.i), uint64_t(c.j), uint64_t(c.k), tag | k); };
+          const int n = poisson(CounterRng::unit(key(0)[0]));
+          count += size_t(n);
+          for (int k = 1; k <= n; ++k) {
+            const auto w = key(uint64_t(k));
+            const Vec3 p = corner(c, level) + s * Vec3{CounterRng::unit(w[0]), CounterRng::unit(w[1]), CounterRng::unit(w[2])};
+            // A lone dart in a cube of the first level reads only the disks within its reach.
+            if (level == 0 && n == 1 ? covered(p, 0) : near_disks(c, level, near).covers(p)) continue;
+            if (c.boundary && !d_.contains(p)) continue;
+            out[ch].push_back({double(epoch) + CounterRng::unit(w[3]), p});
+          }
+        }
+    }
+    thrown += count;
+    size_t total = 0;
+    for (const auto& o : out) total += o.size();
+    std::vector<Dart> all;
+    all.reserve(total);
+    for (const auto& o : out) all.insert(all.end(), o.begin(), o.end());
+    return all;
   }
 
-  // Calls f(seed) for the seeds whose base cube lies within `reach` of p, until f returns true.
+  // The disks that may reach into a cube's ancestor, as positions and radii, read once for a run
+  // of darts or children below it (the active lists are in space order).
+  struct NearDisks {
+    int level = -1;
+    int64_t i = 0, j = 0, k = 0;
+    std::vector<int32_t> ids;
+    std::vector<Vec3> centre;
+    std::vector<double> radius, radius2;
+    bool holds_key(const Cube& a, int at) const { return level == at && i == a.i && j == a.j && k == a.k; }
+    // Without a branch per disk: there are few, and one of them mostly holds the point.
+    bool covers(Vec3 p) const {
+      bool in = false;
+      for (size_t q = 0; q < centre.size(); ++q) in |= norm2(p - centre[q]) < radius2[q];
+      return in;
+    }
+  };
+  // A base cube's disks are read with one grid walk for all the cubes below it, unless they are
+  // many (where h is well below r): then each parent's, so that a cube is not tested against
+  // disks far from it.
+  struct NearCache {
+    NearDisks base, parent;
+  };
+  static constexpr size_t kSharedDisks = 64;
+  const NearDisks& near_disks(const Cube& c, int level, NearCache& cache) const {
+    const Cube base{c.i >> level, c.j >> level, c.k >> level, false};
+    if (!cache.base.holds_key(base, 0)) read_disks(base, 0, cache.base);
+    if (level <= 1 || cache.base.ids.size() <= kSharedDisks) return cache.base;
+    const Cube parent{c.i >> 1, c.j >> 1, c.k >> 1, false};
+    if (!cache.parent.holds_key(parent, level - 1)) read_disks(parent, level - 1, cache.parent);
+    return cache.parent;
+  }
+  void read_disks(const Cube& c, int level, NearDisks& near) const {
+    near.level = level, near.i = c.i, near.j = c.j, near.k = c.k;
+    seeds_reaching(c, level, near.ids);
+    near.centre.clear(), near.radius.clear(), near.radius2.clear();
+    for (int32_t q : near.ids) {
+      near.centre.push_back(seeds_[q]);
+      near.radius.push_back(radius_[q]), near.radius2.push_back(radius_[q] * radius_[q]);
+    }
+  }
+
+  // Per base cube, which of its cubes of `level` (0, 1 or 2: 1, 8 or 64, bit x + n (y + n z)
+  // with n = 2^level) lie in one seed's disk, every corner strictly inside as in holds(). Each seed
+  // marks the cubes around it: there are several base cubes per seed, so this reads far less
+  // than a walk around every cube, and at these levels the single-disk test is the whole test.
+  std::vector<uint64_t> subcubes_in_one_disk(int level) const {
+    const int n = 1 << level;
+    const double s = side(level);
+    std::vector<uint64_t> marks(head_.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1024)
+    for (size_t q = 0; q < seeds_.size(); ++q) {
+      const Vec3 c = seeds_[q];
+      const double h2 = radius_[q] * radius_[q];
+      for_slots_near(c, radius_[q], [&](int64_t slot, int bi, int bj, int bk) {
+        double far[3][4];  // squared distance to each slab's farther face, per axis
+        const int64_t first[3] = {int64_t(bi) * n, int64_t(bj) * n, int64_t(bk) * n};
+        for (int a = 0; a < 3; ++a)
+          for (int t = 0; t < n; ++t) {
+            const double lo = s_.grid.origin[a] + s * double(first[a] + t), hi = s_.grid.origin[a] + s * double(first[a] + t + 1);
+            far[a][t] = std::max((c[a] - lo) * (c[a] - lo), (c[a] - hi) * (c[a] - hi));
+          }
+        uint64_t bits = 0;
+        for (int z = 0; z < n; ++z)
+          for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+              bits |= uint64_t(far[0][x] + far[1][y] + far[2][z] < h2) << (x + n * (y + n * z));
+        if (bits) std::atomic_ref<uint64_t>(marks[size_t(slot)]).fetch_or(bits, std::memory_order_relaxed);
+        return false;
+      });
+    }
+    return marks;
+  }
+
+  // Only seeds numbered `first` or later: a cube's list runs from its newest seed.
   template <class F>
-  void for_seeds_near(Vec3 p, double reach, F&& f) const {
-    s_.grid.for_cubes_near(p, reach, [&](int64_t c) {
-      for (int32_t q = head_[size_t(c)]; q >= 0; q = next_[size_t(q)])
+  void for_seeds_near(Vec3 p, double reach, F&& f, int32_t first = 0) const {
+    for_slots_near(p, reach, [&](int64_t slot, int, int, int) {
+      for (int32_t q = head_[size_t(slot)]; q >= first; q = next_[size_t(q)])
         if (f(q)) return true;
       return false;
     });
@@ -147,15 +255,16 @@ class GradedSampler {
   double reach(Vec3 p, double extra) const {
     return std::min(r_ + extra, (h_.at(p) + extra) * reach_factor_ + 1e-9 * r_);
   }
-  bool covered(Vec3 p) const {
+  // Is p in the disk of a seed numbered `first` or later?
+  bool covered(Vec3 p, int32_t first) const {
     bool in = false;
-    for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_[q]) < radius_[q] * radius_[q]; });
+    for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_[q]) < radius_[q] * radius_[q]; }, first);
     return in;
   }
-  // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from level 3
-  // on, inside the union of two (box_in_two_balls): without it the cubes along the curves where
-  // disks meet are refined to the last level. The first disk found to hold the cube ends the
-  // search: with a margin for round-off, by its distance to the centre alone.
+  // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from
+  // kFirstTwoDiskLevel on, inside the union of two (box_in_two_balls): without it the cubes
+  // along the curves where disks meet are refined to the last level. The first disk found to
+  // hold the cube ends the search: with a margin for round-off, by its distance to the centre.
   struct CubeTest {
     Vec3 lo, mid;
     double s, half_diagonal;
@@ -180,23 +289,15 @@ class GradedSampler {
     return all;
   }
   bool in_two_disks(const CubeTest& t, int level) const {
-    if (level < 3) return false;
+    if (level < kFirstTwoDiskLevel) return false;
     for (int a = 0; a < t.n; ++a)
       for (int b = a + 1; b < t.n; ++b)
         if (box_in_two_balls(t.lo, t.s, seeds_[t.near[a]], radius_[t.near[a]], seeds_[t.near[b]], radius_[t.near[b]]))
           return true;
     return false;
   }
-  bool cube_covered(const Cube& c, int level) const {
-    CubeTest t = cube_test(c, level);
-    bool in = false;
-    for_seeds_near(t.mid, reach(t.mid, t.half_diagonal), [&](int32_t q) { return in = holds(t, q); });
-    return in || in_two_disks(t, level);
-  }
-  // The same test from `candidates`, the seeds whose disks reach into the cube's parent in the
-  // order the grid gives them (seeds_reaching): a disk that reaches into a child reaches into
-  // its parent, and the order is the grid's, so the answer is cube_covered's with one grid
-  // walk per parent instead of one per child.
+  // Is the cube covered, by one disk or two? From `candidates`, the seeds whose disks reach into
+  // it (a superset: those that reach into an ancestor, read once for the cubes below it).
   bool cube_covered(const Cube& c, int level, const std::vector<int32_t>& candidates) const {
     CubeTest t = cube_test(c, level);
     for (int32_t q : candidates)
@@ -244,12 +345,12 @@ class GradedSampler {
   }
 
   // The base cubes in the domain or on its surface, by blocks of 8^3 (in parallel, joined in
-  // block order): a block that meets no triangle is all inside or all outside, by one test.
+  // block order): a block that meets no triangle is all inside or all outside, by one test. The
+  // blocks that keep a cube get a place (cube_slot).
   std::vector<Cube> initial_cubes() {
-    constexpr int kBlock = 8;
     const auto& g = s_.grid;
-    const int bx = (g.nx + kBlock - 1) / kBlock, by = (g.ny + kBlock - 1) / kBlock, bz = (g.nz + kBlock - 1) / kBlock;
-    const size_t blocks = size_t(bx) * by * bz;
+    blocks_x_ = (g.nx + kBlock - 1) / kBlock, blocks_y_ = (g.ny + kBlock - 1) / kBlock;
+    const size_t blocks = size_t(blocks_x_) * blocks_y_ * size_t((g.nz + kBlock - 1) / kBlock);
     std::vector<std::vector<Cube>> out(blocks);
     std::vector<std::vector<int32_t>> pools(blocks);
 #pragma omp parallel
@@ -257,7 +358,8 @@ class GradedSampler {
       std::vector<int32_t> near;
 #pragma omp for schedule(dynamic, 1)
       for (size_t b = 0; b < blocks; ++b) {
-        const int i0 = int(b % bx) * kBlock, j0 = int(b / bx % by) * kBlock, k0 = int(b / (size_t(bx) * by)) * kBlock;
+        const int i0 = int(b % blocks_x_) * kBlock, j0 = int(b / blocks_x_ % blocks_y_) * kBlock,
+                  k0 = int(b / (size_t(blocks_x_) * blocks_y_)) * kBlock;
         const int i1 = std::min(g.nx, i0 + kBlock), j1 = std::min(g.ny, j0 + kBlock), k1 = std::min(g.nz, k0 + kBlock);
         const Vec3 lo = corner(Cube{i0, j0, k0, false}, 0), hi = corner(Cube{i1, j1, k1, false}, 0);
         if (hi.x < d_.bounds.lo.x || hi.y < d_.bounds.lo.y || hi.z < d_.bounds.lo.z || lo.x > d_.bounds.hi.x ||
@@ -275,7 +377,7 @@ class GradedSampler {
               std::vector<int32_t>& pool = pools[b];
               const size_t pool_size = pool.size();
               const int side = block_side > 0 ? 1 : side_of(c, 0, pool, near.data(), near.size());
-              if (side < 0 || cube_covered(c, 0)) {
+              if (side < 0) {
                 pool.resize(pool_size);
                 continue;
               }
@@ -284,8 +386,46 @@ class GradedSampler {
             }
       }
     }
+    block_slot_.assign(blocks, -1);
+    int32_t slots = 0;
+    for (size_t b = 0; b < blocks; ++b)
+      if (!out[b].empty()) block_slot_[b] = slots++;
     pool_.clear();
-    return join(out, pools, pool_);
+    std::vector<Cube> all = join(out, pools, pool_);
+    head_.assign(size_t(slots) * kBlockCubes, -1);
+    return all;
+  }
+
+  // A base cube's place in the seed lists and the marks: 8^3 per block that keeps a cube (a
+  // block's cubes are near in memory, as a walk around a point reads them), -1 in other blocks.
+  static constexpr int kBlock = 8, kBlockCubes = kBlock * kBlock * kBlock;
+  int64_t cube_slot(int i, int j, int k) const {
+    const int64_t slot = block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)];
+    return slot < 0 ? -1 : slot * kBlockCubes + (k % kBlock * kBlock + j % kBlock) * kBlock + i % kBlock;
+  }
+  // Calls f(slot, i, j, k) for each base cube with a place whose distance to p is below `reach`;
+  // true from f stops the walk.
+  template <class F>
+  void for_slots_near(Vec3 p, double reach, F&& f) const {
+    const auto& g = s_.grid;
+    int ci, cj, ck;
+    g.locate(p, ci, cj, ck);
+    const int span = int(std::ceil(reach / g.side));
+    const double r2 = reach * reach;
+    const Vec3 q = p - g.origin;
+    for (int k = std::max(0, ck - span); k <= std::min(g.nz - 1, ck + span); ++k) {
+      const double dz = BackgroundGrid::axis_gap(q.z, k, g.side);
+      if (dz >= r2) continue;
+      for (int j = std::max(0, cj - span); j <= std::min(g.ny - 1, cj + span); ++j) {
+        const double dyz = dz + BackgroundGrid::axis_gap(q.y, j, g.side);
+        if (dyz >= r2) continue;
+        for (int i = std::max(0, ci - span); i <= std::min(g.nx - 1, ci + span); ++i) {
+          if (dyz + BackgroundGrid::axis_gap(q.x, i, g.side) >= r2) continue;
+          const int64_t slot = cube_slot(i, j, k);
+          if (slot >= 0 && f(slot, i, j, k)) return;
+        }
+      }
+    }
   }
 
   // The children not covered and not outside, in the parents' order (chunks in parallel, each
@@ -295,26 +435,45 @@ class GradedSampler {
     const size_t chunks = (active.size() + kChunk - 1) / kChunk;
     std::vector<std::vector<Cube>> out(chunks);
     std::vector<std::vector<int32_t>> pools(chunks);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (size_t ch = 0; ch < chunks; ++ch) {
+    // Children of the second and third levels are tested against single disks only (in_two_disks).
+    static_assert(kFirstTwoDiskLevel > 2);
+    const std::vector<uint64_t> marks = level + 1 <= 2 ? subcubes_in_one_disk(level + 1) : std::vector<uint64_t>();
+    auto marked = [&](const Cube& child) {
+      const int n = 1 << (level + 1);
+      const int64_t b = cube_slot(int(child.i >> (level + 1)), int(child.j >> (level + 1)), int(child.k >> (level + 1)));
+      return (marks[size_t(b)] >> ((child.i & (n - 1)) + n * ((child.j & (n - 1)) + n * (child.k & (n - 1))))) & 1;
+    };
+#pragma omp parallel
+    {
+      NearCache near;
       std::vector<int32_t> candidates;
-      for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
-        const Cube& c = active[a];
-        seeds_reaching(c, level, candidates);
-        for (int q = 0; q < 8; ++q) {
-          Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
-          if (cube_covered(child, level + 1, candidates)) continue;
-          if (c.boundary) {
-            std::vector<int32_t>& pool = pools[ch];
-            const size_t pool_size = pool.size();
-            const int side = side_of(child, level + 1, pool, pool_.data() + c.tris_begin, c.tris_end - c.tris_begin);
-            if (side < 0) {
-              pool.resize(pool_size);
-              continue;
-            }
-            child.boundary = side == 0;
+#pragma omp for schedule(dynamic, 1)
+      for (size_t ch = 0; ch < chunks; ++ch) {
+        for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
+          const Cube& c = active[a];
+          // The disks that reach c, from those read once for the cubes around it.
+          candidates.clear();
+          if (marks.empty()) {
+            const NearDisks& around = near_disks(c, level, near);
+            const CubeTest t = cube_test(c, level);
+            for (size_t q = 0; q < around.ids.size(); ++q)
+              if (norm(t.mid - around.centre[q]) < around.radius[q] + t.half_diagonal) candidates.push_back(around.ids[q]);
           }
-          out[ch].push_back(child);
+          for (int q = 0; q < 8; ++q) {
+            Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
+            if (marks.empty() ? cube_covered(child, level + 1, candidates) : marked(child)) continue;
+            if (c.boundary) {
+              std::vector<int32_t>& pool = pools[ch];
+              const size_t pool_size = pool.size();
+              const int side = side_of(child, level + 1, pool, pool_.data() + c.tris_begin, c.tris_end - c.tris_begin);
+              if (side < 0) {
+                pool.resize(pool_size);
+                continue;
+              }
+              child.boundary = side == 0;
+            }
+            out[ch].push_back(child);
+          }
         }
       }
     }
@@ -325,9 +484,13 @@ class GradedSampler {
   }
 
   // The cubes and triangle pools of parallel chunks as one list and one pool, in chunk order.
-  static std::vector<Cube> join(const std::vector<std::vector<Cube>>& out, const std::vector<std::vector<int32_t>>& pools,
+  // Each chunk is freed once copied: the active lists are the sampler's largest memory.
+  static std::vector<Cube> join(std::vector<std::vector<Cube>>& out, std::vector<std::vector<int32_t>>& pools,
                                 std::vector<int32_t>& pool) {
+    size_t total = 0;
+    for (const auto& o : out) total += o.size();
     std::vector<Cube> all;
+    all.reserve(total);
     for (size_t ch = 0; ch < out.size(); ++ch) {
       const uint32_t shift = uint32_t(pool.size());
       for (Cube c : out[ch]) {
@@ -335,12 +498,21 @@ class GradedSampler {
         all.push_back(c);
       }
       pool.insert(pool.end(), pools[ch].begin(), pools[ch].end());
+      std::vector<Cube>().swap(out[ch]);
+      std::vector<int32_t>().swap(pools[ch]);
     }
     return all;
   }
 
   void add_seed(Vec3 p, double radius) {
-    const int64_t c = base_of(p);
+    int i, j, k;
+    s_.grid.locate(p, i, j, k);
+    int64_t c = cube_slot(i, j, k);
+    if (c < 0) {  // a protection seed on a face of a block that keeps no cube: give it a place
+      block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)] = int32_t(head_.size() / kBlockCubes);
+      head_.resize(head_.size() + kBlockCubes, -1);
+      c = cube_slot(i, j, k);
+    }
     next_.push_back(head_[size_t(c)]);
     head_[size_t(c)] = int32_t(seeds_.size());
     seeds_.push_back(p), radius_.push_back(radius);
@@ -363,10 +535,18 @@ class GradedSampler {
     std::vector<int32_t> new_id(seeds_.size(), -1), ids;
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
     s_.cube_extra_begin.assign(1, 0);
-    for (size_t c = 0; c < head_.size(); ++c) {
-      if (head_[c] < 0) continue;
+    const auto& g = s_.grid;
+    for (size_t c = 0; c < g.cube_count(); ++c) {
+      int i, j, k;
+      g.coords(int64_t(c), i, j, k);
+      const int64_t slot = cube_slot(i, j, k);
+      if (slot < 0) {  // the rest of the block's row
+        c += size_t(std::min(kBlock - i % kBlock, g.nx - i) - 1);
+        continue;
+      }
+      if (head_[size_t(slot)] < 0) continue;
       ids.clear();
-      for (int32_t q = head_[c]; q >= 0; q = next_[size_t(q)]) ids.push_back(q);
+      for (int32_t q = head_[size_t(slot)]; q >= 0; q = next_[size_t(q)]) ids.push_back(q);
       std::reverse(ids.begin(), ids.end());  // in the order they came
       for (int32_t q : ids) new_id[q] = int32_t(s_.seeds.size()), s_.seeds.push_back(seeds_[q]);
       if (ids.size() == 1) {
@@ -393,10 +573,15 @@ class GradedSampler {
   std::vector<Vec3> seeds_;
   std::vector<double> radius_;  // each seed's disk: h at the seed
   std::vector<Sample::Protected> protection_;
-  // The seeds of each base cube as a list: its last seed, and each seed's previous one there.
+  // The seeds of each base cube (by cube_slot) as a list: its last seed, and each seed's previous
+  // one there.
   std::vector<int32_t> head_, next_;
   mutable std::vector<int32_t> scratch_;
   std::vector<int32_t> pool_;  // the active boundary cubes' triangles
+  // Per block of 8^3 base cubes, its place (cube_slot) or -1. The grid spans the domain's
+  // bounding box, which a thin or slanted part fills little of.
+  std::vector<int32_t> block_slot_;
+  int blocks_x_ = 0, blocks_y_ = 0;
 };
 
 }  // namespace

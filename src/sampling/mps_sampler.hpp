@@ -29,6 +29,7 @@
 #include <span>
 
 #include "common/random.hpp"
+#include "sampling/poisson_count.hpp"
 #include "common/surface_locator.hpp"
 #include "sampling/protect.hpp"
 #include "common/tolerances.hpp"
@@ -107,31 +108,6 @@ constexpr int kFirstExactCoverageLevel = 7;
 // (a domain that fills little of its grid), throwing there gained nothing measurable (commit
 // 4e3c950).
 constexpr int kFirstFusedDartLevel = 2;
-
-// Inverse CDF of the Poisson law with mean `mean`: the CDF tabulated once (it is summed term by
-// term, p0 = exp(-mean) first), then read per draw, with no division per term.
-class Poisson {
- public:
-  explicit Poisson(double mean) {
-    double p = std::exp(-mean), cdf = p;
-    cdf_[0] = cdf;
-    for (int k = 1; k < kMax; ++k) {
-      p *= mean / k;
-      cdf += p;
-      cdf_[k] = cdf;
-    }
-  }
-  // The count whose CDF interval holds u (at most kMax - 1).
-  int operator()(double u) const {
-    int k = 0;
-    while (k < kMax - 1 && u > cdf_[k]) ++k;
-    return k;
-  }
-
- private:
-  static constexpr int kMax = 65;
-  double cdf_[kMax];
-};
 
 class Sampler {
  public:
