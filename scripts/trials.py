@@ -122,17 +122,47 @@ def shares_triangles(tris):
     return False
 
 
+def inside(tris, p):
+    """Whether p is inside the closed surface `tris`: the parity of the triangles a ray from p
+    crosses (Moller-Trumbore), along a direction no CAD face is likely to hold."""
+    d = (0.5773502691896258, 0.5801346643, 0.5746)
+    crossings = 0
+    for a, b, c in tris:
+        e1 = [b[k] - a[k] for k in range(3)]
+        e2 = [c[k] - a[k] for k in range(3)]
+        h = [d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]]
+        det = sum(e1[k] * h[k] for k in range(3))
+        if abs(det) < 1e-300:
+            continue
+        s = [p[k] - a[k] for k in range(3)]
+        u = sum(s[k] * h[k] for k in range(3)) / det
+        if u < 0 or u > 1:
+            continue
+        q = [s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]]
+        v = sum(d[k] * q[k] for k in range(3)) / det
+        if v < 0 or u + v > 1:
+            continue
+        crossings += sum(e2[k] * q[k] for k in range(3)) / det > 0
+    return crossings % 2 == 1
+
+
 def crack_sheet(rng, part, path):
     """A crack for `part`: a plane through a random point of the middle of its box, facing a
     random way, as a square (8 triangles, OBJ) reaching past the box on every side (a through
     crack) or, half the time, 0.2 to 0.8 times the box's size across (a front inside the part,
-    or from its surface: a penny or an edge crack)."""
+    or from its surface: a penny or an edge crack). The point is inside the part: a crack that
+    misses the solid is refused, as it should be, and is not a run a user would draw."""
     tris = triangles(part)
     # (Cracks in a multi-region part are not supported yet: issue 38.)
     if not tris or shares_triangles(tris):
         return False
     lo, hi = bounds(tris)
-    centre = [lo[k] + (0.2 + 0.6 * rng.random()) * (hi[k] - lo[k]) for k in range(3)]
+    for _ in range(20):
+        centre = [lo[k] + (0.2 + 0.6 * rng.random()) * (hi[k] - lo[k]) for k in range(3)]
+        if inside(tris, centre):
+            break
+    else:
+        return False
     n = [rng.gauss(0, 1) for _ in range(3)]
     norm = math.sqrt(sum(c * c for c in n))
     n = [c / norm for c in n]

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
+#include <span>
 #include <iterator>
 #include <tuple>
 
@@ -13,6 +15,8 @@
 
 namespace froth {
 namespace {
+
+double sqr(double x) { return x * x; }
 
 // Darts per active cube per round (a Poisson mean) and the rounds of each level. They tune speed
 // only: each round is a slice of the darts' arrival times, so the law of the sample is the same
@@ -32,6 +36,10 @@ constexpr int kFirstTwoDiskLevel = 5;
 struct Cube {
   int64_t i, j, k;
   bool boundary;  // meets the surface: its darts and children are tested one by one
+  // A non-convex domain's boundary cube: is its centre inside? The side of a point of the cube
+  // follows by the parity of crossings with the cube's triangles, the only ones that can cross
+  // the segment from the centre (inside_cube), without a ray through the whole surface.
+  bool centre_inside = false;
   uint32_t tris_begin = 0, tris_end = 0;  // a boundary cube's triangles, in its level's pool
 };
 
@@ -109,6 +117,7 @@ class GradedSampler {
       s_.stats.darts += stats.darts;
       s_.stats.per_level.push_back(stats);
       if (level == kMaxLevel) break;
+      order_seeds_by_place();
       active = refine(active, level);
       if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level + 1)));
     }
@@ -152,7 +161,7 @@ class GradedSampler {
             const Vec3 p = corner(c, level) + s * Vec3{CounterRng::unit(w[0]), CounterRng::unit(w[1]), CounterRng::unit(w[2])};
             // A lone dart in a cube of the first level reads only the disks within its reach.
             if (level == 0 && n == 1 ? covered(p, 0) : near_disks(c, level, near).covers(p)) continue;
-            if (c.boundary && !d_.contains(p)) continue;
+            if (c.boundary && !inside_cube(c, level, p)) continue;
             out[ch].push_back({double(epoch) + CounterRng::unit(w[3]), p});
           }
         }
@@ -182,29 +191,62 @@ class GradedSampler {
       return in;
     }
   };
-  // A base cube's disks are read with one grid walk for all the cubes below it, unless they are
-  // many (where h is well below r): then each parent's, so that a cube is not tested against
-  // disks far from it.
+  // A base cube's disks are read with one grid walk for all the cubes below it; where they are
+  // many (h well below r), each parent's are picked from them, so that a cube is not tested
+  // against disks far from it.
   struct NearCache {
     NearDisks base, parent;
   };
   static constexpr size_t kSharedDisks = 64;
   const NearDisks& near_disks(const Cube& c, int level, NearCache& cache) const {
     const Cube base{c.i >> level, c.j >> level, c.k >> level, false};
-    if (!cache.base.holds_key(base, 0)) read_disks(base, 0, cache.base);
+    if (!cache.base.holds_key(base, 0)) read_disks(base, cache.base);
     if (level <= 1 || cache.base.ids.size() <= kSharedDisks) return cache.base;
     const Cube parent{c.i >> 1, c.j >> 1, c.k >> 1, false};
-    if (!cache.parent.holds_key(parent, level - 1)) read_disks(parent, level - 1, cache.parent);
+    if (!cache.parent.holds_key(parent, level - 1)) pick_disks(cache.base, parent, level - 1, cache.parent);
     return cache.parent;
   }
-  void read_disks(const Cube& c, int level, NearDisks& near) const {
-    near.level = level, near.i = c.i, near.j = c.j, near.k = c.k;
-    seeds_reaching(c, level, near.ids);
+  void read_disks(const Cube& base, NearDisks& near) const {
+    near.level = 0, near.i = base.i, near.j = base.j, near.k = base.k;
+    seeds_reaching(base, 0, near.ids);
     near.centre.clear(), near.radius.clear(), near.radius2.clear();
     for (int32_t q : near.ids) {
       near.centre.push_back(seeds_[q]);
       near.radius.push_back(radius_[q]), near.radius2.push_back(radius_[q] * radius_[q]);
     }
+  }
+  // The disks of `from` (those of an ancestor) that reach into cube c of `level`, in their order.
+  void pick_disks(const NearDisks& from, const Cube& c, int level, NearDisks& near) const {
+    near.level = level, near.i = c.i, near.j = c.j, near.k = c.k;
+    near.ids.clear(), near.centre.clear(), near.radius.clear(), near.radius2.clear();
+    const CubeTest t = cube_test(c, level);
+    for (size_t q = 0; q < from.ids.size(); ++q)
+      if (norm2(t.mid - from.centre[q]) < sqr(from.radius[q] + t.half_diagonal)) {
+        near.ids.push_back(from.ids[q]), near.centre.push_back(from.centre[q]);
+        near.radius.push_back(from.radius[q]), near.radius2.push_back(from.radius2[q]);
+      }
+  }
+
+  // Which of the n^3 cubes of side s from `lo` (n <= 4; bit x + n (y + n z)) lie in the disk of
+  // centre c and squared radius h2, every corner strictly inside (as in holds()): a cube's
+  // farthest corner from c is, along each axis, its farther face.
+  static uint64_t cubes_in_disk(Vec3 lo, double s, int n, Vec3 c, double h2) {
+    double far[3][4];
+    for (int a = 0; a < 3; ++a)
+      for (int t = 0; t < n; ++t) {
+        const double near_face = lo[a] + s * t - c[a], far_face = near_face + s;
+        far[a][t] = std::max(near_face * near_face, far_face * far_face);
+      }
+    uint64_t bits = 0;
+    for (int z = 0; z < n; ++z) {
+      if (far[2][z] >= h2) continue;
+      for (int y = 0; y < n; ++y) {
+        const double yz = far[1][y] + far[2][z];
+        if (yz >= h2) continue;
+        for (int x = 0; x < n; ++x) bits |= uint64_t(yz + far[0][x] < h2) << (x + n * (y + n * z));
+      }
+    }
+    return bits;
   }
 
   // Per base cube, which of its cubes of `level` (0, 1 or 2: 1, 8 or 64, bit x + n (y + n z)
@@ -220,18 +262,8 @@ class GradedSampler {
       const Vec3 c = seeds_[q];
       const double h2 = radius_[q] * radius_[q];
       for_slots_near(c, radius_[q], [&](int64_t slot, int bi, int bj, int bk) {
-        double far[3][4];  // squared distance to each slab's farther face, per axis
-        const int64_t first[3] = {int64_t(bi) * n, int64_t(bj) * n, int64_t(bk) * n};
-        for (int a = 0; a < 3; ++a)
-          for (int t = 0; t < n; ++t) {
-            const double lo = s_.grid.origin[a] + s * double(first[a] + t), hi = s_.grid.origin[a] + s * double(first[a] + t + 1);
-            far[a][t] = std::max((c[a] - lo) * (c[a] - lo), (c[a] - hi) * (c[a] - hi));
-          }
-        uint64_t bits = 0;
-        for (int z = 0; z < n; ++z)
-          for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x)
-              bits |= uint64_t(far[0][x] + far[1][y] + far[2][z] < h2) << (x + n * (y + n * z));
+        const Vec3 lo = s_.grid.origin + s * Vec3{double(int64_t(bi) * n), double(int64_t(bj) * n), double(int64_t(bk) * n)};
+        const uint64_t bits = cubes_in_disk(lo, s, n, c, h2);
         if (bits) std::atomic_ref<uint64_t>(marks[size_t(slot)]).fetch_or(bits, std::memory_order_relaxed);
         return false;
       });
@@ -242,7 +274,7 @@ class GradedSampler {
   // Only seeds numbered `first` or later: a cube's list runs from its newest seed.
   template <class F>
   void for_seeds_near(Vec3 p, double reach, F&& f, int32_t first = 0) const {
-    for_slots_near(p, reach, [&](int64_t slot, int, int, int) {
+    for_occupied_near(p, reach, [&](int64_t slot) {
       for (int32_t q = head_[size_t(slot)]; q >= first; q = next_[size_t(q)])
         if (f(q)) return true;
       return false;
@@ -314,9 +346,15 @@ class GradedSampler {
   }
 
   // Outside the domain (-1), inside (1), or meeting its surface (0). A non-convex domain's cube
-  // that meets the surface gets its triangles in `pool` (from `candidates`, its parent's, if given).
-  int side_of(Cube& c, int level, std::vector<int32_t>& pool, const int32_t* candidates = nullptr,
-              size_t candidate_count = 0) const {
+  // gets its triangles in `pool` (those of `candidates` that meet it) and its centre's side, by
+  // parity from `ref`, a point of known side in a box holding the cube that only `candidates`
+  // meet (the parent's centre, or the block's).
+  struct Reference {
+    Vec3 p;
+    bool inside;
+  };
+  int side_of(Cube& c, int level, std::vector<int32_t>& pool, std::span<const int32_t> candidates,
+              const Reference& ref) const {
     const double s = side(level);
     const Vec3 lo = corner(c, level), hi = lo + Vec3{s, s, s};
     if (d_.convex) {
@@ -331,17 +369,24 @@ class GradedSampler {
       return all_in ? 1 : 0;
     }
     c.tris_begin = uint32_t(pool.size());
-    if (candidates) {
-      for (size_t k = 0; k < candidate_count; ++k)
-        if (d_.locator->triangle_meets_box(candidates[k], lo, hi)) pool.push_back(candidates[k]);
-    } else {
-      scratch_.clear();
-      d_.locator->triangles_near(lo, hi, scratch_);
-      pool.insert(pool.end(), scratch_.begin(), scratch_.end());
-    }
+    for (int32_t t : candidates)
+      if (d_.locator->triangle_meets_box(t, lo, hi)) pool.push_back(t);
     c.tris_end = uint32_t(pool.size());
+    const Vec3 centre = lo + 0.5 * s * Vec3{1, 1, 1};
+    bool in = ref.inside;
+    if (!(ref.p == centre) && !d_.locator->side_from(ref.p, ref.inside, centre, candidates, in)) in = d_.contains(centre);
+    c.centre_inside = in;
     if (c.tris_end > c.tris_begin) return 0;
-    return d_.contains(lo + 0.5 * s * Vec3{1, 1, 1}) ? 1 : -1;
+    return in ? 1 : -1;
+  }
+  // Is p, a point of boundary cube c of `level`, inside the domain?
+  bool inside_cube(const Cube& c, int level, Vec3 p) const {
+    if (d_.convex) return d_.contains(p);
+    const Vec3 centre = corner(c, level) + 0.5 * side(level) * Vec3{1, 1, 1};
+    bool in;
+    if (d_.locator->side_from(centre, c.centre_inside, p, {pool_.data() + c.tris_begin, c.tris_end - c.tris_begin}, in))
+      return in;
+    return d_.contains(p);  // a degenerate crossing: ask the whole surface
   }
 
   // The base cubes in the domain or on its surface, by blocks of 8^3 (in parallel, joined in
@@ -355,7 +400,7 @@ class GradedSampler {
     std::vector<std::vector<int32_t>> pools(blocks);
 #pragma omp parallel
     {
-      std::vector<int32_t> near;
+      std::vector<int32_t> near, row;
 #pragma omp for schedule(dynamic, 1)
       for (size_t b = 0; b < blocks; ++b) {
         const int i0 = int(b % blocks_x_) * kBlock, j0 = int(b / blocks_x_ % blocks_y_) * kBlock,
@@ -371,12 +416,24 @@ class GradedSampler {
         const int block_side = !d_.convex && near.empty() ? (d_.contains(0.5 * (lo + hi)) ? 1 : -1) : 0;
         if (block_side < 0) continue;
         for (int k = k0; k < k1; ++k)
-          for (int j = j0; j < j1; ++j)
+          for (int j = j0; j < j1; ++j) {
+            // Along a row, each cube's centre takes its side from the previous one's, by parity
+            // with the row's triangles; the first asks the whole surface.
+            if (block_side == 0 && !d_.convex) {
+              const Vec3 row_lo = corner(Cube{i0, j, k, false}, 0), row_hi = corner(Cube{i1, j + 1, k + 1, false}, 0);
+              row.clear();
+              for (int32_t t : near)
+                if (d_.locator->triangle_meets_box(t, row_lo, row_hi)) row.push_back(t);
+            }
+            Reference previous{};
             for (int i = i0; i < i1; ++i) {
               Cube c{i, j, k, false};
               std::vector<int32_t>& pool = pools[b];
               const size_t pool_size = pool.size();
-              const int side = block_side > 0 ? 1 : side_of(c, 0, pool, near.data(), near.size());
+              const Vec3 centre = corner(c, 0) + 0.5 * g.side * Vec3{1, 1, 1};
+              if (i == i0) previous = {centre, !d_.convex && block_side == 0 && d_.contains(centre)};
+              const int side = block_side > 0 ? 1 : side_of(c, 0, pool, row, previous);
+              previous = {centre, c.centre_inside};
               if (side < 0) {
                 pool.resize(pool_size);
                 continue;
@@ -384,6 +441,7 @@ class GradedSampler {
               c.boundary = side == 0;
               out[b].push_back(c);
             }
+          }
       }
     }
     block_slot_.assign(blocks, -1);
@@ -393,6 +451,7 @@ class GradedSampler {
     pool_.clear();
     std::vector<Cube> all = join(out, pools, pool_);
     head_.assign(size_t(slots) * kBlockCubes, -1);
+    occupied_.assign(head_.size() / kBlock, 0);
     return all;
   }
 
@@ -403,10 +462,10 @@ class GradedSampler {
     const int64_t slot = block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)];
     return slot < 0 ? -1 : slot * kBlockCubes + (k % kBlock * kBlock + j % kBlock) * kBlock + i % kBlock;
   }
-  // Calls f(slot, i, j, k) for each base cube with a place whose distance to p is below `reach`;
-  // true from f stops the walk.
-  template <class F>
-  void for_slots_near(Vec3 p, double reach, F&& f) const {
+  // Calls row(k, j, i0, i1) for the rows of base cubes (i0 to i1 along x) that hold every cube
+  // whose distance to p is below `reach` (and a few more at the ends: callers measure).
+  template <class Row>
+  void for_rows_near(Vec3 p, double reach, Row&& row) const {
     const auto& g = s_.grid;
     int ci, cj, ck;
     g.locate(p, ci, cj, ck);
@@ -419,13 +478,42 @@ class GradedSampler {
       for (int j = std::max(0, cj - span); j <= std::min(g.ny - 1, cj + span); ++j) {
         const double dyz = dz + BackgroundGrid::axis_gap(q.y, j, g.side);
         if (dyz >= r2) continue;
-        for (int i = std::max(0, ci - span); i <= std::min(g.nx - 1, ci + span); ++i) {
-          if (dyz + BackgroundGrid::axis_gap(q.x, i, g.side) >= r2) continue;
-          const int64_t slot = cube_slot(i, j, k);
-          if (slot >= 0 && f(slot, i, j, k)) return;
-        }
+        const double w = std::sqrt(r2 - dyz);
+        const int i0 = std::max(0, int(std::floor((q.x - w) / g.side))), i1 = std::min(g.nx - 1, int(std::floor((q.x + w) / g.side)));
+        if (i0 <= i1 && row(k, j, i0, i1)) return;
       }
     }
+  }
+  // Calls f(slot, i, j, k) for each base cube with a place near p (for_rows_near); true from f
+  // stops the walk.
+  template <class F>
+  void for_slots_near(Vec3 p, double reach, F&& f) const {
+    for_rows_near(p, reach, [&](int k, int j, int i0, int i1) {
+      for (int i = i0; i <= i1; ++i) {
+        const int64_t slot = cube_slot(i, j, k);
+        if (slot >= 0 && f(slot, i, j, k)) return true;
+      }
+      return false;
+    });
+  }
+  // The same for the cubes that hold a seed, through each block row's bits (occupied_): most
+  // cubes hold none, and a branch per cube on it would be mispredicted.
+  template <class F>
+  void for_occupied_near(Vec3 p, double reach, F&& f) const {
+    for_rows_near(p, reach, [&](int k, int j, int i0, int i1) {
+      for (int b = i0 / kBlock; b <= i1 / kBlock; ++b) {
+        const int32_t block = block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + b)];
+        if (block < 0) continue;
+        const int64_t row = (int64_t(block) * kBlock + k % kBlock) * kBlock + j % kBlock;
+        const int lo = std::max(i0 - b * kBlock, 0), hi = std::min(i1 - b * kBlock, kBlock - 1);
+        uint32_t bits = occupied_[size_t(row)] & ((2u << hi) - (1u << lo));
+        for (; bits; bits &= bits - 1) {
+          const int x = std::countr_zero(bits);
+          if (f(row * kBlock + x)) return true;
+        }
+      }
+      return false;
+    });
   }
 
   // The children not covered and not outside, in the parents' order (chunks in parallel, each
@@ -451,26 +539,35 @@ class GradedSampler {
       for (size_t ch = 0; ch < chunks; ++ch) {
         for (size_t a = ch * kChunk; a < std::min(active.size(), (ch + 1) * kChunk); ++a) {
           const Cube& c = active[a];
-          // The disks that reach c, from those read once for the cubes around it.
+          // The disks that reach c, from those read once for the cubes around it; the children
+          // in one of them, or in two from kFirstTwoDiskLevel on.
           candidates.clear();
+          uint64_t in_one = 0;
           if (marks.empty()) {
             const NearDisks& around = near_disks(c, level, near);
             const CubeTest t = cube_test(c, level);
             for (size_t q = 0; q < around.ids.size(); ++q)
-              if (norm(t.mid - around.centre[q]) < around.radius[q] + t.half_diagonal) candidates.push_back(around.ids[q]);
+              if (norm2(t.mid - around.centre[q]) < sqr(around.radius[q] + t.half_diagonal)) {
+                candidates.push_back(around.ids[q]);
+                in_one |= cubes_in_disk(t.lo, 0.5 * t.s, 2, around.centre[q], around.radius2[q]);
+              }
           }
+          const bool two_disks = level + 1 >= kFirstTwoDiskLevel;
           for (int q = 0; q < 8; ++q) {
             Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
-            if (marks.empty() ? cube_covered(child, level + 1, candidates) : marked(child)) continue;
+            if (!marks.empty() ? marked(child) : (in_one >> q & 1) || (two_disks && cube_covered(child, level + 1, candidates)))
+              continue;
             if (c.boundary) {
               std::vector<int32_t>& pool = pools[ch];
               const size_t pool_size = pool.size();
-              const int side = side_of(child, level + 1, pool, pool_.data() + c.tris_begin, c.tris_end - c.tris_begin);
-              if (side < 0) {
+              const Reference parent_centre{corner(c, level) + 0.5 * side(level) * Vec3{1, 1, 1}, c.centre_inside};
+              const int where =
+                  side_of(child, level + 1, pool, {pool_.data() + c.tris_begin, c.tris_end - c.tris_begin}, parent_centre);
+              if (where < 0) {
                 pool.resize(pool_size);
                 continue;
               }
-              child.boundary = side == 0;
+              child.boundary = where == 0;
             }
             out[ch].push_back(child);
           }
@@ -511,11 +608,41 @@ class GradedSampler {
     if (c < 0) {  // a protection seed on a face of a block that keeps no cube: give it a place
       block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)] = int32_t(head_.size() / kBlockCubes);
       head_.resize(head_.size() + kBlockCubes, -1);
+      occupied_.resize(head_.size() / kBlock, 0);
       c = cube_slot(i, j, k);
     }
     next_.push_back(head_[size_t(c)]);
     head_[size_t(c)] = int32_t(seeds_.size());
+    occupied_[size_t(c / kBlock)] |= uint8_t(1u << (c % kBlock));
     seeds_.push_back(p), radius_.push_back(radius);
+  }
+
+  // Renumbers the seeds by their base cube's place, keeping each cube's in the order they came:
+  // they came in arrival order, scattered in memory, and every walk around a cube reads the
+  // seeds of its neighbours. A round's new seeds still get the numbers after all earlier ones.
+  void order_seeds_by_place() {
+    std::vector<int32_t> order;
+    order.reserve(seeds_.size());
+    for (int32_t head : head_) {
+      const size_t first = order.size();
+      for (int32_t q = head; q >= 0; q = next_[size_t(q)]) order.push_back(q);
+      std::reverse(order.begin() + int64_t(first), order.end());
+    }
+    std::vector<int32_t> new_id(seeds_.size());
+    std::vector<Vec3> seeds(seeds_.size());
+    std::vector<double> radius(seeds_.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+      new_id[size_t(order[k])] = int32_t(k);
+      seeds[k] = seeds_[size_t(order[k])], radius[k] = radius_[size_t(order[k])];
+    }
+    seeds_.swap(seeds), radius_.swap(radius);
+    for (Sample::Protected& p : protection_) p.seed = new_id[size_t(p.seed)];
+    // Each list again from its newest (highest-numbered) seed.
+    for (int32_t& head : head_)
+      if (head >= 0) head = new_id[size_t(head)];
+    std::vector<int32_t> next(next_.size());
+    for (size_t q = 0; q < next_.size(); ++q) next[size_t(new_id[q])] = next_[q] >= 0 ? new_id[size_t(next_[q])] : -1;
+    next_.swap(next);
   }
 
   // Reflex edges first (paper §2.2), at h_e = h/sqrt(2), then a multi-region solid's interfaces
@@ -576,7 +703,7 @@ class GradedSampler {
   // The seeds of each base cube (by cube_slot) as a list: its last seed, and each seed's previous
   // one there.
   std::vector<int32_t> head_, next_;
-  mutable std::vector<int32_t> scratch_;
+  std::vector<uint8_t> occupied_;  // per row of 8 cubes in a block: which hold a seed
   std::vector<int32_t> pool_;  // the active boundary cubes' triangles
   // Per block of 8^3 base cubes, its place (cube_slot) or -1. The grid spans the domain's
   // bounding box, which a thin or slanted part fills little of.
