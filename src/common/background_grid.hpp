@@ -22,15 +22,22 @@ struct BackgroundGrid {
   // the grid, and is read through index offsets without a bounds check per cube (the cells
   // near a face are a large share of a small mesh's).
   static constexpr int kMargin = 4;
+  static constexpr double kOriginShift = 0.3819660112501051;
 
-  // Cubes along an axis of length `length` (at least one), with the margins.
+  // Cubes along an axis of length `length` (at least one), with the margins and the cube the
+  // shift below takes.
   static double cubes_along(double length, double side) {
-    return std::max(1.0, std::ceil(length / side)) + 2 * kMargin;
+    return std::max(1.0, std::ceil(length / side)) + 2 * kMargin + 1;
   }
   static BackgroundGrid covering(const Box& box, double r) {
     BackgroundGrid g;
     g.side = r / std::sqrt(3.0);
-    g.origin = box.lo - Vec3{kMargin * g.side, kMargin * g.side, kMargin * g.side};
+    // Shifted by an odd fraction of a cube beyond the margin, so that the planes of the cubes and
+    // of their sub-cubes miss the faces a CAD part has at its bounding box: a triangle on a
+    // cube's face, or a dart's segment ending on one, sends the samplers' tests there to exact
+    // arithmetic or to a ray through the whole surface.
+    const double shift = kMargin + kOriginShift;
+    g.origin = box.lo - Vec3{shift * g.side, shift * g.side, shift * g.side};
     const Vec3 s = box.size();
     g.nx = static_cast<int>(cubes_along(s.x, g.side));
     g.ny = static_cast<int>(cubes_along(s.y, g.side));

@@ -22,7 +22,7 @@ Slab slab_of(int rank, int ranks, int nz) {
          fmt::format("a partition over {} ranks needs at least {} layers of sampling cubes (side r/sqrt(3)) per rank "
                      "along z, and the grid has {} layers ({} of them its empty margins): use fewer ranks or a "
                      "smaller r",
-                     ranks, kCellHaloLayers, nz, 2 * BackgroundGrid::kMargin));
+                     ranks, kCellHaloLayers, nz, 2 * BackgroundGrid::kMargin + 1));
   Slab s;
   s.owned_begin = int(int64_t(nz) * rank / ranks);
   s.owned_end = int(int64_t(nz) * (rank + 1) / ranks);
