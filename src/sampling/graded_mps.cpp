@@ -470,7 +470,7 @@ class GradedSampler {
     int ci, cj, ck;
     g.locate(p, ci, cj, ck);
     const int span = int(std::ceil(reach / g.side));
-    const double r2 = reach * reach;
+    const double r2 = reach * reach, inverse_side = 1 / g.side;
     const Vec3 q = p - g.origin;
     for (int k = std::max(0, ck - span); k <= std::min(g.nz - 1, ck + span); ++k) {
       const double dz = BackgroundGrid::axis_gap(q.z, k, g.side);
@@ -478,8 +478,11 @@ class GradedSampler {
       for (int j = std::max(0, cj - span); j <= std::min(g.ny - 1, cj + span); ++j) {
         const double dyz = dz + BackgroundGrid::axis_gap(q.y, j, g.side);
         if (dyz >= r2) continue;
+        // The row's cubes within reach, by a product (a division per row was a quarter of the
+        // walk), widened by 1e-9 of a cube against its rounding.
         const double w = std::sqrt(r2 - dyz);
-        const int i0 = std::max(0, int(std::floor((q.x - w) / g.side))), i1 = std::min(g.nx - 1, int(std::floor((q.x + w) / g.side)));
+        const int i0 = std::max(0, int(std::floor((q.x - w) * inverse_side - 1e-9))),
+                  i1 = std::min(g.nx - 1, int(std::floor((q.x + w) * inverse_side + 1e-9)));
         if (i0 <= i1 && row(k, j, i0, i1)) return;
       }
     }
