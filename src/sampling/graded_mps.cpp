@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <atomic>
-#include <bit>
 #include <cmath>
-#include <span>
 #include <iterator>
+#include <span>
 #include <tuple>
 
 #include "common/random.hpp"
-#include "sampling/poisson_count.hpp"
 #include "common/surface_locator.hpp"
+#include "sampling/poisson_count.hpp"
 #include "sampling/protect_interfaces.hpp"
+#include "sampling/seed_blocks.hpp"
 
 namespace froth {
 namespace {
@@ -81,8 +81,8 @@ class GradedSampler {
 
   GradedSampler(const Domain& d, const SizingField& h, uint64_t seed)
       : d_(d), h_(h), r_(h.r()), reach_factor_((1 + 1e-6) / (1 - h.lipschitz())), seed_(seed),
-        rng_(seed, RandomStream::Graded) {
-    s_.grid = BackgroundGrid::covering(d.bounds, r_);
+        rng_(seed, RandomStream::Graded), seeds_(BackgroundGrid::covering(d.bounds, h.r())) {
+    s_.grid = seeds_.grid();
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
@@ -92,7 +92,7 @@ class GradedSampler {
     protect();
     // Protection seeds are few: each marks the base cubes in its disk.
     const std::vector<uint64_t> in_disk = subcubes_in_one_disk(0);
-    std::erase_if(active, [&](const Cube& c) { return in_disk[size_t(cube_slot(int(c.i), int(c.j), int(c.k)))] != 0; });
+    std::erase_if(active, [&](const Cube& c) { return in_disk[size_t(seeds_.cube_slot(int(c.i), int(c.j), int(c.k)))] != 0; });
     const size_t initial_active = std::max<size_t>(1, active.size());
     int level = 0, epoch = 0;
     for (; !active.empty(); ++level) {
@@ -109,7 +109,7 @@ class GradedSampler {
         // the decisions of random sequential addition.
         const int32_t round_first = int32_t(seeds_.size());
         for (const Dart& t : darts)
-          if (!covered(t.p, round_first)) add_seed(t.p, h_.at(t.p));
+          if (!covered(t.p, round_first)) seeds_.add(t.p, h_.at(t.p));
         // Told after each round too (the same fraction): the caller may stop the run there.
         if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level)));
       }
@@ -117,7 +117,8 @@ class GradedSampler {
       s_.stats.darts += stats.darts;
       s_.stats.per_level.push_back(stats);
       if (level == kMaxLevel) break;
-      order_seeds_by_place();
+      const std::vector<int32_t> new_id = seeds_.order_by_place();
+      for (Sample::Protected& p : protection_) p.seed = new_id[size_t(p.seed)];
       active = refine(active, level);
       if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level + 1)));
     }
@@ -211,8 +212,8 @@ class GradedSampler {
     seeds_reaching(base, 0, near.ids);
     near.centre.clear(), near.radius.clear(), near.radius2.clear();
     for (int32_t q : near.ids) {
-      near.centre.push_back(seeds_[q]);
-      near.radius.push_back(radius_[q]), near.radius2.push_back(radius_[q] * radius_[q]);
+      near.centre.push_back(seeds_.point[q]);
+      near.radius.push_back(seeds_.radius[q]), near.radius2.push_back(seeds_.radius[q] * seeds_.radius[q]);
     }
   }
   // The disks of `from` (those of an ancestor) that reach into cube c of `level`, in their order.
@@ -256,12 +257,12 @@ class GradedSampler {
   std::vector<uint64_t> subcubes_in_one_disk(int level) const {
     const int n = 1 << level;
     const double s = side(level);
-    std::vector<uint64_t> marks(head_.size(), 0);
+    std::vector<uint64_t> marks(seeds_.places(), 0);
 #pragma omp parallel for schedule(dynamic, 1024)
     for (size_t q = 0; q < seeds_.size(); ++q) {
-      const Vec3 c = seeds_[q];
-      const double h2 = radius_[q] * radius_[q];
-      for_slots_near(c, radius_[q], [&](int64_t slot, int bi, int bj, int bk) {
+      const Vec3 c = seeds_.point[q];
+      const double h2 = seeds_.radius[q] * seeds_.radius[q];
+      seeds_.for_slots_near(c, seeds_.radius[q], [&](int64_t slot, int bi, int bj, int bk) {
         const Vec3 lo = s_.grid.origin + s * Vec3{double(int64_t(bi) * n), double(int64_t(bj) * n), double(int64_t(bk) * n)};
         const uint64_t bits = cubes_in_disk(lo, s, n, c, h2);
         if (bits) std::atomic_ref<uint64_t>(marks[size_t(slot)]).fetch_or(bits, std::memory_order_relaxed);
@@ -271,15 +272,6 @@ class GradedSampler {
     return marks;
   }
 
-  // Only seeds numbered `first` or later: a cube's list runs from its newest seed.
-  template <class F>
-  void for_seeds_near(Vec3 p, double reach, F&& f, int32_t first = 0) const {
-    for_occupied_near(p, reach, [&](int64_t slot) {
-      for (int32_t q = head_[size_t(slot)]; q >= first; q = next_[size_t(q)])
-        if (f(q)) return true;
-      return false;
-    });
-  }
   // How far from p a seed can be whose disk reaches within `extra` of p: |p - q| < h(q) + extra
   // and h(q) <= h(p) + lambda |p - q| give (h(p) + extra) / (1 - lambda), and never more than
   // r + extra. Where h is small this reads a few base cubes instead of all within r (the scans
@@ -290,7 +282,7 @@ class GradedSampler {
   // Is p in the disk of a seed numbered `first` or later?
   bool covered(Vec3 p, int32_t first) const {
     bool in = false;
-    for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_[q]) < radius_[q] * radius_[q]; }, first);
+    seeds_.for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_.point[q]) < seeds_.radius[q] * seeds_.radius[q]; }, first);
     return in;
   }
   // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from
@@ -311,20 +303,20 @@ class GradedSampler {
   }
   // Seed q against the cube: true if its disk holds the whole cube.
   bool holds(CubeTest& t, int32_t q) const {
-    const double h = radius_[q], dist = norm(t.mid - seeds_[q]);
+    const double h = seeds_.radius[q], dist = norm(t.mid - seeds_.point[q]);
     if (dist >= h + t.half_diagonal) return false;
     if (t.n < 16) t.near[t.n++] = q;
     if (dist + t.half_diagonal < h * (1 - 1e-12)) return true;
     bool all = true;
     for (int k = 0; k < 8 && all; ++k)
-      all = norm2(t.lo + t.s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)} - seeds_[q]) < h * h;
+      all = norm2(t.lo + t.s * Vec3{double(k & 1), double(k >> 1 & 1), double(k >> 2 & 1)} - seeds_.point[q]) < h * h;
     return all;
   }
   bool in_two_disks(const CubeTest& t, int level) const {
     if (level < kFirstTwoDiskLevel) return false;
     for (int a = 0; a < t.n; ++a)
       for (int b = a + 1; b < t.n; ++b)
-        if (box_in_two_balls(t.lo, t.s, seeds_[t.near[a]], radius_[t.near[a]], seeds_[t.near[b]], radius_[t.near[b]]))
+        if (box_in_two_balls(t.lo, t.s, seeds_.point[t.near[a]], seeds_.radius[t.near[a]], seeds_.point[t.near[b]], seeds_.radius[t.near[b]]))
           return true;
     return false;
   }
@@ -339,8 +331,8 @@ class GradedSampler {
   void seeds_reaching(const Cube& c, int level, std::vector<int32_t>& out) const {
     const CubeTest t = cube_test(c, level);
     out.clear();
-    for_seeds_near(t.mid, reach(t.mid, t.half_diagonal), [&](int32_t q) {
-      if (norm(t.mid - seeds_[q]) < radius_[q] + t.half_diagonal) out.push_back(q);
+    seeds_.for_seeds_near(t.mid, reach(t.mid, t.half_diagonal), [&](int32_t q) {
+      if (norm(t.mid - seeds_.point[q]) < seeds_.radius[q] + t.half_diagonal) out.push_back(q);
       return false;
     });
   }
@@ -391,11 +383,11 @@ class GradedSampler {
 
   // The base cubes in the domain or on its surface, by blocks of 8^3 (in parallel, joined in
   // block order): a block that meets no triangle is all inside or all outside, by one test. The
-  // blocks that keep a cube get a place (cube_slot).
+  // blocks that keep a cube get a place in the seed lists (SeedBlocks).
   std::vector<Cube> initial_cubes() {
     const auto& g = s_.grid;
-    blocks_x_ = (g.nx + kBlock - 1) / kBlock, blocks_y_ = (g.ny + kBlock - 1) / kBlock;
-    const size_t blocks = size_t(blocks_x_) * blocks_y_ * size_t((g.nz + kBlock - 1) / kBlock);
+    const int kBlock = SeedBlocks::kBlock, blocks_x = seeds_.blocks_x(), blocks_y = seeds_.blocks_y();
+    const size_t blocks = seeds_.block_count();
     std::vector<std::vector<Cube>> out(blocks);
     std::vector<std::vector<int32_t>> pools(blocks);
 #pragma omp parallel
@@ -403,8 +395,8 @@ class GradedSampler {
       std::vector<int32_t> near, row;
 #pragma omp for schedule(dynamic, 1)
       for (size_t b = 0; b < blocks; ++b) {
-        const int i0 = int(b % blocks_x_) * kBlock, j0 = int(b / blocks_x_ % blocks_y_) * kBlock,
-                  k0 = int(b / (size_t(blocks_x_) * blocks_y_)) * kBlock;
+        const int i0 = int(b % blocks_x) * kBlock, j0 = int(b / blocks_x % blocks_y) * kBlock,
+                  k0 = int(b / (size_t(blocks_x) * blocks_y)) * kBlock;
         const int i1 = std::min(g.nx, i0 + kBlock), j1 = std::min(g.ny, j0 + kBlock), k1 = std::min(g.nz, k0 + kBlock);
         const Vec3 lo = corner(Cube{i0, j0, k0, false}, 0), hi = corner(Cube{i1, j1, k1, false}, 0);
         if (hi.x < d_.bounds.lo.x || hi.y < d_.bounds.lo.y || hi.z < d_.bounds.lo.z || lo.x > d_.bounds.hi.x ||
@@ -444,79 +436,11 @@ class GradedSampler {
           }
       }
     }
-    block_slot_.assign(blocks, -1);
-    int32_t slots = 0;
-    for (size_t b = 0; b < blocks; ++b)
-      if (!out[b].empty()) block_slot_[b] = slots++;
+    std::vector<char> used(blocks);
+    for (size_t b = 0; b < blocks; ++b) used[b] = !out[b].empty();
+    seeds_.place_blocks(used);
     pool_.clear();
-    std::vector<Cube> all = join(out, pools, pool_);
-    head_.assign(size_t(slots) * kBlockCubes, -1);
-    occupied_.assign(head_.size() / kBlock, 0);
-    return all;
-  }
-
-  // A base cube's place in the seed lists and the marks: 8^3 per block that keeps a cube (a
-  // block's cubes are near in memory, as a walk around a point reads them), -1 in other blocks.
-  static constexpr int kBlock = 8, kBlockCubes = kBlock * kBlock * kBlock;
-  int64_t cube_slot(int i, int j, int k) const {
-    const int64_t slot = block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)];
-    return slot < 0 ? -1 : slot * kBlockCubes + (k % kBlock * kBlock + j % kBlock) * kBlock + i % kBlock;
-  }
-  // Calls row(k, j, i0, i1) for the rows of base cubes (i0 to i1 along x) that hold every cube
-  // whose distance to p is below `reach` (and a few more at the ends: callers measure).
-  template <class Row>
-  void for_rows_near(Vec3 p, double reach, Row&& row) const {
-    const auto& g = s_.grid;
-    int ci, cj, ck;
-    g.locate(p, ci, cj, ck);
-    const int span = int(std::ceil(reach / g.side));
-    const double r2 = reach * reach, inverse_side = 1 / g.side;
-    const Vec3 q = p - g.origin;
-    for (int k = std::max(0, ck - span); k <= std::min(g.nz - 1, ck + span); ++k) {
-      const double dz = BackgroundGrid::axis_gap(q.z, k, g.side);
-      if (dz >= r2) continue;
-      for (int j = std::max(0, cj - span); j <= std::min(g.ny - 1, cj + span); ++j) {
-        const double dyz = dz + BackgroundGrid::axis_gap(q.y, j, g.side);
-        if (dyz >= r2) continue;
-        // The row's cubes within reach, by a product (a division per row was a quarter of the
-        // walk), widened by 1e-9 of a cube against its rounding.
-        const double w = std::sqrt(r2 - dyz);
-        const int i0 = std::max(0, int(std::floor((q.x - w) * inverse_side - 1e-9))),
-                  i1 = std::min(g.nx - 1, int(std::floor((q.x + w) * inverse_side + 1e-9)));
-        if (i0 <= i1 && row(k, j, i0, i1)) return;
-      }
-    }
-  }
-  // Calls f(slot, i, j, k) for each base cube with a place near p (for_rows_near); true from f
-  // stops the walk.
-  template <class F>
-  void for_slots_near(Vec3 p, double reach, F&& f) const {
-    for_rows_near(p, reach, [&](int k, int j, int i0, int i1) {
-      for (int i = i0; i <= i1; ++i) {
-        const int64_t slot = cube_slot(i, j, k);
-        if (slot >= 0 && f(slot, i, j, k)) return true;
-      }
-      return false;
-    });
-  }
-  // The same for the cubes that hold a seed, through each block row's bits (occupied_): most
-  // cubes hold none, and a branch per cube on it would be mispredicted.
-  template <class F>
-  void for_occupied_near(Vec3 p, double reach, F&& f) const {
-    for_rows_near(p, reach, [&](int k, int j, int i0, int i1) {
-      for (int b = i0 / kBlock; b <= i1 / kBlock; ++b) {
-        const int32_t block = block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + b)];
-        if (block < 0) continue;
-        const int64_t row = (int64_t(block) * kBlock + k % kBlock) * kBlock + j % kBlock;
-        const int lo = std::max(i0 - b * kBlock, 0), hi = std::min(i1 - b * kBlock, kBlock - 1);
-        uint32_t bits = occupied_[size_t(row)] & ((2u << hi) - (1u << lo));
-        for (; bits; bits &= bits - 1) {
-          const int x = std::countr_zero(bits);
-          if (f(row * kBlock + x)) return true;
-        }
-      }
-      return false;
-    });
+    return join(out, pools, pool_);
   }
 
   // The children not covered and not outside, in the parents' order (chunks in parallel, each
@@ -531,7 +455,7 @@ class GradedSampler {
     const std::vector<uint64_t> marks = level + 1 <= 2 ? subcubes_in_one_disk(level + 1) : std::vector<uint64_t>();
     auto marked = [&](const Cube& child) {
       const int n = 1 << (level + 1);
-      const int64_t b = cube_slot(int(child.i >> (level + 1)), int(child.j >> (level + 1)), int(child.k >> (level + 1)));
+      const int64_t b = seeds_.cube_slot(int(child.i >> (level + 1)), int(child.j >> (level + 1)), int(child.k >> (level + 1)));
       return (marks[size_t(b)] >> ((child.i & (n - 1)) + n * ((child.j & (n - 1)) + n * (child.k & (n - 1))))) & 1;
     };
 #pragma omp parallel
@@ -604,50 +528,6 @@ class GradedSampler {
     return all;
   }
 
-  void add_seed(Vec3 p, double radius) {
-    int i, j, k;
-    s_.grid.locate(p, i, j, k);
-    int64_t c = cube_slot(i, j, k);
-    if (c < 0) {  // a protection seed on a face of a block that keeps no cube: give it a place
-      block_slot_[size_t((k / kBlock * blocks_y_ + j / kBlock) * blocks_x_ + i / kBlock)] = int32_t(head_.size() / kBlockCubes);
-      head_.resize(head_.size() + kBlockCubes, -1);
-      occupied_.resize(head_.size() / kBlock, 0);
-      c = cube_slot(i, j, k);
-    }
-    next_.push_back(head_[size_t(c)]);
-    head_[size_t(c)] = int32_t(seeds_.size());
-    occupied_[size_t(c / kBlock)] |= uint8_t(1u << (c % kBlock));
-    seeds_.push_back(p), radius_.push_back(radius);
-  }
-
-  // Renumbers the seeds by their base cube's place, keeping each cube's in the order they came:
-  // they came in arrival order, scattered in memory, and every walk around a cube reads the
-  // seeds of its neighbours. A round's new seeds still get the numbers after all earlier ones.
-  void order_seeds_by_place() {
-    std::vector<int32_t> order;
-    order.reserve(seeds_.size());
-    for (int32_t head : head_) {
-      const size_t first = order.size();
-      for (int32_t q = head; q >= 0; q = next_[size_t(q)]) order.push_back(q);
-      std::reverse(order.begin() + int64_t(first), order.end());
-    }
-    std::vector<int32_t> new_id(seeds_.size());
-    std::vector<Vec3> seeds(seeds_.size());
-    std::vector<double> radius(seeds_.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-      new_id[size_t(order[k])] = int32_t(k);
-      seeds[k] = seeds_[size_t(order[k])], radius[k] = radius_[size_t(order[k])];
-    }
-    seeds_.swap(seeds), radius_.swap(radius);
-    for (Sample::Protected& p : protection_) p.seed = new_id[size_t(p.seed)];
-    // Each list again from its newest (highest-numbered) seed.
-    for (int32_t& head : head_)
-      if (head >= 0) head = new_id[size_t(head)];
-    std::vector<int32_t> next(next_.size());
-    for (size_t q = 0; q < next_.size(); ++q) next[size_t(new_id[q])] = next_[q] >= 0 ? new_id[size_t(next_[q])] : -1;
-    next_.swap(next);
-  }
-
   // Reflex edges first (paper §2.2), at h_e = h/sqrt(2), then a multi-region solid's interfaces
   // (protect_interfaces.hpp); the free seeds keep h from them.
   void protect() {
@@ -656,37 +536,25 @@ class GradedSampler {
         d_, r_, seed_, s_.stats, [&](Vec3 x) { return h_.at(x); }, h_.lipschitz());
     for (size_t k = 0; k < p.points.size(); ++k) {
       protection_.push_back({int32_t(seeds_.size()), p.kinds[k], p.inward[k]});
-      add_seed(p.points[k], h_.at(p.points[k]));
+      seeds_.add(p.points[k], h_.at(p.points[k]));
     }
   }
 
   // Seeds numbered by base cube, each cube's in the order they came.
   Sample finish() {
-    std::vector<int32_t> new_id(seeds_.size(), -1), ids;
+    std::vector<int32_t> new_id(seeds_.size(), -1);
     s_.cube_seed.assign(s_.grid.cube_count(), -1);
     s_.cube_extra_begin.assign(1, 0);
-    const auto& g = s_.grid;
-    for (size_t c = 0; c < g.cube_count(); ++c) {
-      int i, j, k;
-      g.coords(int64_t(c), i, j, k);
-      const int64_t slot = cube_slot(i, j, k);
-      if (slot < 0) {  // the rest of the block's row
-        c += size_t(std::min(kBlock - i % kBlock, g.nx - i) - 1);
-        continue;
-      }
-      if (head_[size_t(slot)] < 0) continue;
-      ids.clear();
-      for (int32_t q = head_[size_t(slot)]; q >= 0; q = next_[size_t(q)]) ids.push_back(q);
-      std::reverse(ids.begin(), ids.end());  // in the order they came
-      for (int32_t q : ids) new_id[q] = int32_t(s_.seeds.size()), s_.seeds.push_back(seeds_[q]);
+    seeds_.for_each_cube([&](int64_t c, const std::vector<int32_t>& ids) {
+      for (int32_t q : ids) new_id[q] = int32_t(s_.seeds.size()), s_.seeds.push_back(seeds_.point[q]);
       if (ids.size() == 1) {
         s_.cube_seed[c] = new_id[ids[0]];
-        continue;
+        return;
       }
       s_.cube_seed[c] = -2 - int32_t(s_.cube_extra_begin.size() - 1);
       for (int32_t q : ids) s_.cube_extra.push_back(new_id[q]);
       s_.cube_extra_begin.push_back(int32_t(s_.cube_extra.size()));
-    }
+    });
     for (Sample::Protected p : protection_) s_.protected_seeds.push_back({new_id[p.seed], p.kind, p.inward});
     std::sort(s_.protected_seeds.begin(), s_.protected_seeds.end(),
               [](const auto& a, const auto& b) { return a.seed < b.seed; });
@@ -700,18 +568,9 @@ class GradedSampler {
   uint64_t seed_;
   CounterRng rng_;
   Sample s_;
-  std::vector<Vec3> seeds_;
-  std::vector<double> radius_;  // each seed's disk: h at the seed
+  SeedBlocks seeds_;  // each seed with its disk's radius, h at the seed
   std::vector<Sample::Protected> protection_;
-  // The seeds of each base cube (by cube_slot) as a list: its last seed, and each seed's previous
-  // one there.
-  std::vector<int32_t> head_, next_;
-  std::vector<uint8_t> occupied_;  // per row of 8 cubes in a block: which hold a seed
   std::vector<int32_t> pool_;  // the active boundary cubes' triangles
-  // Per block of 8^3 base cubes, its place (cube_slot) or -1. The grid spans the domain's
-  // bounding box, which a thin or slanted part fills little of.
-  std::vector<int32_t> block_slot_;
-  int blocks_x_ = 0, blocks_y_ = 0;
 };
 
 }  // namespace
