@@ -4,6 +4,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -32,9 +33,8 @@ struct CellScratch {
   std::vector<Vec3> normals;
   std::vector<double> offsets;
   std::vector<bool> border;
-  // An edge's use by a face as two integers, so that sorting compares two integers: its ends
-  // a < b (ids below 2^31), then the face's index in the cell and whether the face runs the
-  // edge from a to b.
+  // An edge's use by a face: its ends a < b (ids below 2^31) as one integer, the face's index in
+  // the cell and whether the face runs the edge from a to b.
   struct EdgeUse {
     uint64_t ends, use;
     EdgeUse(int32_t a, int32_t b, uint32_t face, bool forward)
@@ -43,9 +43,37 @@ struct CellScratch {
     int32_t b() const { return int32_t(uint32_t(ends)); }
     uint32_t face() const { return uint32_t(use >> 1); }
     bool forward() const { return use & 1; }
-    bool operator<(const EdgeUse& o) const { return ends != o.ends ? ends < o.ends : use < o.use; }
   };
   std::vector<EdgeUse> edges;
+  // The edges' pairs of uses (indices into `edges`), and the open-addressing table that finds
+  // them: an edge's ends, and its use waiting for the other (kNone once paired).
+  static constexpr uint64_t kEmpty = ~uint64_t(0);
+  static constexpr uint32_t kNone = ~uint32_t(0);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  struct Slot {
+    uint64_t ends = kEmpty;
+    uint32_t open = kNone;
+  };
+  std::vector<Slot> table;
+  std::vector<uint32_t> filled;
+  // Pairs each use with the next use of its edge, in the order of `edges` (the faces'): a sort of
+  // the uses was a tenth of the quality stage.
+  void pair_uses() {
+    pairs.clear();
+    if (table.size() < 2 * edges.size()) table.assign(std::bit_ceil(2 * edges.size()), Slot{});
+    const size_t mask = table.size() - 1;
+    auto home = [mask](uint64_t e) { return size_t((e * 0x9E3779B97F4A7C15ull) >> 40) & mask; };
+    for (uint32_t k = 0; k < uint32_t(edges.size()); ++k) {
+      size_t s = home(edges[k].ends);
+      while (table[s].ends != kEmpty && table[s].ends != edges[k].ends) s = (s + 1) & mask;
+      Slot& slot = table[s];
+      if (slot.ends == kEmpty) slot = {edges[k].ends, k}, filled.push_back(uint32_t(s));
+      else if (slot.open == kNone) slot.open = k;
+      else pairs.emplace_back(slot.open, k), slot.open = kNone;
+    }
+    for (uint32_t s : filled) table[s] = Slot{};  // empty again for the next cell
+    filled.clear();
+  }
 };
 
 // Lemma 6's half-angle where protection seeds r_e = r/sqrt(2) apart make it: sin(theta) >= sqrt(2)/4
@@ -105,13 +133,11 @@ CellQuality measure(const PolyMesh& m, size_t c, CellScratch& w, std::vector<Dih
   q.aspect = q.inradius > 0 ? q.outradius / q.inradius : INFINITY;
 
   // Each edge is used by two faces of a closed cell: pair them up.
-  std::sort(w.edges.begin(), w.edges.end());  // by ends, then face
+  w.pair_uses();
   q.min_dihedral = INFINITY, q.max_dihedral = -INFINITY, q.min_edge = INFINITY;
-  for (size_t k = 0; k + 1 < w.edges.size(); ++k) {
-    const auto& x = w.edges[k];
-    const auto& y = w.edges[k + 1];
-    if (x.ends != y.ends) continue;
-    ++k;
+  for (const auto& [first, second] : w.pairs) {
+    const auto& x = w.edges[first];
+    const auto& y = w.edges[second];
     q.min_edge = std::min(q.min_edge, norm(m.points[x.a()] - m.points[x.b()]));
     // Two coplanar faces meet along a line in a plane, not an edge of the cell's shape: where a
     // face with holes was cut into triangles (assembly/holed_faces), or a face split where a
