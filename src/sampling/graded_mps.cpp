@@ -92,7 +92,9 @@ class GradedSampler {
     protect();
     // Protection seeds are few: each marks the base cubes in its disk.
     const std::vector<uint64_t> in_disk = subcubes_in_one_disk(0);
-    std::erase_if(active, [&](const Cube& c) { return in_disk[size_t(seeds_.cube_slot(int(c.i), int(c.j), int(c.k)))] != 0; });
+    std::erase_if(active, [&](const Cube& c) {
+      return in_disk[size_t(seeds_.cube_slot(int(c.i), int(c.j), int(c.k)))] != 0;
+    });
     const size_t initial_active = std::max<size_t>(1, active.size());
     int level = 0, epoch = 0;
     for (; !active.empty(); ++level) {
@@ -159,7 +161,8 @@ class GradedSampler {
           count += size_t(n);
           for (int k = 1; k <= n; ++k) {
             const auto w = key(uint64_t(k));
-            const Vec3 p = corner(c, level) + s * Vec3{CounterRng::unit(w[0]), CounterRng::unit(w[1]), CounterRng::unit(w[2])};
+            const Vec3 p =
+                corner(c, level) + s * Vec3{CounterRng::unit(w[0]), CounterRng::unit(w[1]), CounterRng::unit(w[2])};
             // A lone dart in a cube of the first level reads only the disks within its reach.
             if (level == 0 && n == 1 ? covered(p, 0) : near_disks(c, level, near).covers(p)) continue;
             if (c.boundary && !inside_cube(c, level, p)) continue;
@@ -263,7 +266,8 @@ class GradedSampler {
       const Vec3 c = seeds_.point[q];
       const double h2 = seeds_.radius[q] * seeds_.radius[q];
       seeds_.for_slots_near(c, seeds_.radius[q], [&](int64_t slot, int bi, int bj, int bk) {
-        const Vec3 lo = s_.grid.origin + s * Vec3{double(int64_t(bi) * n), double(int64_t(bj) * n), double(int64_t(bk) * n)};
+        const Vec3 lo =
+            s_.grid.origin + s * Vec3{double(int64_t(bi) * n), double(int64_t(bj) * n), double(int64_t(bk) * n)};
         const uint64_t bits = cubes_in_disk(lo, s, n, c, h2);
         if (bits) std::atomic_ref<uint64_t>(marks[size_t(slot)]).fetch_or(bits, std::memory_order_relaxed);
         return false;
@@ -282,7 +286,8 @@ class GradedSampler {
   // Is p in the disk of a seed numbered `first` or later?
   bool covered(Vec3 p, int32_t first) const {
     bool in = false;
-    seeds_.for_seeds_near(p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_.point[q]) < seeds_.radius[q] * seeds_.radius[q]; }, first);
+    seeds_.for_seeds_near(
+        p, reach(p, 0), [&](int32_t q) { return in = norm2(p - seeds_.point[q]) < sqr(seeds_.radius[q]); }, first);
     return in;
   }
   // Inside one seed's disk entirely (all eight corners: the disk is convex), or, from
@@ -316,7 +321,8 @@ class GradedSampler {
     if (level < kFirstTwoDiskLevel) return false;
     for (int a = 0; a < t.n; ++a)
       for (int b = a + 1; b < t.n; ++b)
-        if (box_in_two_balls(t.lo, t.s, seeds_.point[t.near[a]], seeds_.radius[t.near[a]], seeds_.point[t.near[b]], seeds_.radius[t.near[b]]))
+        if (box_in_two_balls(t.lo, t.s, seeds_.point[t.near[a]], seeds_.radius[t.near[a]], seeds_.point[t.near[b]],
+                             seeds_.radius[t.near[b]]))
           return true;
     return false;
   }
@@ -366,7 +372,8 @@ class GradedSampler {
     c.tris_end = uint32_t(pool.size());
     const Vec3 centre = lo + 0.5 * s * Vec3{1, 1, 1};
     bool in = ref.inside;
-    if (!(ref.p == centre) && !d_.locator->side_from(ref.p, ref.inside, centre, candidates, in)) in = d_.contains(centre);
+    if (!(ref.p == centre) && !d_.locator->side_from(ref.p, ref.inside, centre, candidates, in))
+      in = d_.contains(centre);
     c.centre_inside = in;
     if (c.tris_end > c.tris_begin) return 0;
     return in ? 1 : -1;
@@ -455,7 +462,8 @@ class GradedSampler {
     const std::vector<uint64_t> marks = level + 1 <= 2 ? subcubes_in_one_disk(level + 1) : std::vector<uint64_t>();
     auto marked = [&](const Cube& child) {
       const int n = 1 << (level + 1);
-      const int64_t b = seeds_.cube_slot(int(child.i >> (level + 1)), int(child.j >> (level + 1)), int(child.k >> (level + 1)));
+      const int up = level + 1;
+      const int64_t b = seeds_.cube_slot(int(child.i >> up), int(child.j >> up), int(child.k >> up));
       return (marks[size_t(b)] >> ((child.i & (n - 1)) + n * ((child.j & (n - 1)) + n * (child.k & (n - 1))))) & 1;
     };
 #pragma omp parallel
@@ -482,14 +490,15 @@ class GradedSampler {
           const bool two_disks = level + 1 >= kFirstTwoDiskLevel;
           for (int q = 0; q < 8; ++q) {
             Cube child{2 * c.i + (q & 1), 2 * c.j + (q >> 1 & 1), 2 * c.k + (q >> 2 & 1), c.boundary};
-            if (!marks.empty() ? marked(child) : (in_one >> q & 1) || (two_disks && cube_covered(child, level + 1, candidates)))
-              continue;
+            const bool in_disks = !marks.empty() ? marked(child) != 0
+                                  : (in_one >> q & 1) || (two_disks && cube_covered(child, level + 1, candidates));
+            if (in_disks) continue;
             if (c.boundary) {
               std::vector<int32_t>& pool = pools[ch];
               const size_t pool_size = pool.size();
               const Reference parent_centre{corner(c, level) + 0.5 * side(level) * Vec3{1, 1, 1}, c.centre_inside};
-              const int where =
-                  side_of(child, level + 1, pool, {pool_.data() + c.tris_begin, c.tris_end - c.tris_begin}, parent_centre);
+              const std::span<const int32_t> parent_tris{pool_.data() + c.tris_begin, c.tris_end - c.tris_begin};
+              const int where = side_of(child, level + 1, pool, parent_tris, parent_centre);
               if (where < 0) {
                 pool.resize(pool_size);
                 continue;
