@@ -5,7 +5,8 @@
 
 - Empty disks: every two seeds are at least min(radius_i, radius_j) apart, that divided by
   sqrt(2) between two protection seeds (kinds 2 to 5), by 2 where one is an interface curve's
-  (kind 5, sampled at r/2); a seed's extra pieces share its seed.
+  (kind 5, sampled at r/2); a seed's extra pieces share its seed, and so do the convex pieces of a
+  cell (--convex, cell data `parent`).
 - Star shape: every cell with a `center` is star-shaped from it: `center` lies on the inner side
   of every face's plane (Newell's normal through the face's centroid; to 1e-9 r), so that a fan
   of tetrahedra from it over any triangulation of the faces has positive volumes.
@@ -65,8 +66,13 @@ def check(path):
     center, piece, kernel = cell_array(grid, "center"), cell_array(grid, "piece"), cell_array(grid, "kernel")
     problems = []
 
-    # Empty disks, over the distinct seeds.
+    # Empty disks, over the distinct seeds: a seed's first piece, and of that the first convex piece.
     first = piece == 0 if piece is not None else np.ones(len(seed), bool)
+    parent = cell_array(grid, "parent")
+    if parent is not None:
+        first_of_parent = np.zeros(len(seed), bool)
+        first_of_parent[np.unique(parent, return_index=True)[1]] = True
+        first &= first_of_parent
     s, k, h = seed[first], kind[first], radius[first]
     protected = (k >= 2) & (k <= 5)
     pairs = cKDTree(s).query_pairs(float(h.max()), output_type="ndarray")

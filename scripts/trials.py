@@ -4,7 +4,7 @@
   python3 scripts/trials.py N [--seed S] [--froth build/froth] [--work DIR] [--jobs J]
                               [--cells LO HI] [--check] [--quiet]
 
-Each trial draws (part, cell count, seed, --grade or a random crack, --weld, threads) from a stream
+Each trial draws (part, cell count, seed, --grade, a random crack, --convex or --weld, threads) from a stream
 seeded by S and runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
 regions as one multi-region run), the real public parts of tests/data/corpus, and the hard shapes
 of scripts/hard_shapes.py (made in the work folder). A trial fails if froth exits with any code but
@@ -190,15 +190,17 @@ def draw(rng, all_parts, lo, hi, work, k):
     part = rng.choice(all_parts)
     cells = int(round(math.exp(rng.uniform(math.log(lo), math.log(hi)))))
     options = ["--cells", str(cells), "--seed", str(rng.getrandbits(32))]
-    # A fifth of the single-solid trials cut along a random crack (no --grade with it).
+    # A fifth of the single-solid trials cut along a random crack; a quarter of all graded.
     if len(part) == 1 and rng.random() < 0.2:
         sheet = os.path.join(work, "crack_%d.obj" % k)
         if crack_sheet(rng, part[0], sheet):
             options += ["--crack", sheet]
-    if "--crack" not in options and rng.random() < 0.25:
+    if rng.random() < 0.25:
         options.append("--grade")
     weld = rng.random()
-    if weld < 0.3:
+    if weld < 0.1:
+        options.append("--convex")  # (its weld tolerance is 0)
+    elif weld < 0.3:
         options += ["--weld", "0"]
     options += ["--threads", str(rng.choice([1, 2]))]
     return part, options
