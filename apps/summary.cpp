@@ -31,6 +31,13 @@ std::vector<std::string> notes(const froth::RunReport& run) {
         "edges: keep w well below r (the default is 1e-4 r)",
         run.welding->clusters_refused, run.welding->tolerance, run.welding->tolerance / run.r,
         run.welding->edges_collapsed));
+  for (const froth::RunReport::Crack& c : run.cracks)
+    if (c.faces_on_front > 0)
+      out.push_back(fmt::format("crack {}: {} of its {} faces on side a have every point on the front (the sheet is "
+                                "narrower than the cells there): their twins on side b have the same points, so a "
+                                "reader that pairs faces by their points takes each pair for one shared face; a "
+                                "smaller r avoids them",
+                                c.name, c.faces_on_front, c.faces_a));
   if (run.input.reoriented_triangles)
     out.push_back(fmt::format("--repair reoriented {} triangles", run.input.reoriented_triangles));
   for (const auto& [what, m] : {std::pair{"walls", run.feature_size.thickness}, std::pair{"gaps", run.feature_size.gap}})

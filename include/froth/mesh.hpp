@@ -254,6 +254,10 @@ struct RunReport {
     double input_area = 0, area = 0, front_length = 0, from_a = 0, from_b = 0;
     size_t faces_a = 0, faces_b = 0;
     bool clipped = false;
+    // Side-a faces all of whose points are on the front (shared with side b): a sheet narrower
+    // than the cells there. A reader that pairs faces by their points takes such a face and its
+    // twin for one shared face.
+    size_t faces_on_front = 0;
   };
   std::vector<Crack> cracks;
   double border_area = 0;  // area of the border faces, to compare with the surface's

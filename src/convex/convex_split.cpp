@@ -72,7 +72,8 @@ class Splitter {
  public:
   Splitter(PolyMesh& m, const std::vector<Plane>& domain_planes, double r)
       : m_(m), domain_planes_(domain_planes), r_(r), tol_(tol::convex(r)), n0_(m.cell_count()),
-        min_thickness_(1e-9 * r), min_volume_(1e-13 * r * r * r) {
+        min_thickness_(1e-9 * r), min_volume_(1e-13 * r * r * r), twin_(std::move(scratch_of(m).point_twin)) {
+    if (!twin_.empty()) twin_.resize(m.points.size(), -1);
     double extent = 0;
     for (const Vec3& p : m.points) extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
     step_ = 1e-6 * (r + extent);
@@ -194,8 +195,10 @@ class Splitter {
   // vertex on an edge must enter).
   void index_vertices(const std::vector<int32_t>& cells) {
     for (int32_t c : cells)
-      for (int64_t k = m_.face_vertex_begin[m_.cell_face_begin[size_t(c)]]; k < m_.face_vertex_begin[m_.cell_face_begin[size_t(c) + 1]]; ++k)
+      for (int64_t k = m_.face_vertex_begin[m_.cell_face_begin[size_t(c)]]; k < m_.face_vertex_begin[m_.cell_face_begin[size_t(c) + 1]]; ++k) {
         incident_[m_.face_vertices[size_t(k)]];
+        incident_[crack_twin(m_.face_vertices[size_t(k)])];  // a cut's point there has a twin across the crack
+      }
     for (size_t c = 0; c < n0_; ++c)
       for (int64_t k = m_.face_vertex_begin[m_.cell_face_begin[c]]; k < m_.face_vertex_begin[m_.cell_face_begin[c + 1]]; ++k) {
         auto it = incident_.find(m_.face_vertices[size_t(k)]);
@@ -412,6 +415,78 @@ class Splitter {
     return best.pieces.empty() ? std::vector<int32_t>{} : commit(id, whole, best);
   }
 
+  // A crack point's copy across the crack (the point itself on the front and off the cracks).
+  int32_t crack_twin(int32_t p) const {
+    return size_t(p) < twin_.size() && twin_[size_t(p)] >= 0 ? twin_[size_t(p)] : p;
+  }
+
+  // A cut's new point p on edge (u, w) of a crack face gets a twin on the twin edge across the
+  // crack, entered into every face through that edge as p was into those through (u, w), so the
+  // crack's two sides keep the same points (a point on the front is shared, as the front is).
+  void add_crack_twin(int32_t p, int32_t u, int32_t w, int32_t id) {
+    if (twin_.empty()) return;
+    twin_.resize(m_.points.size(), -1);
+    const int32_t tu = crack_twin(u), tw = crack_twin(w);
+    if (tu == u && tw == w) return;
+    const int32_t q = int32_t(m_.points.size());
+    m_.points.push_back(m_.points[size_t(p)]);
+    twin_.resize(m_.points.size(), -1);
+    twin_[size_t(p)] = q, twin_[size_t(q)] = p;
+    std::vector<int32_t>& around = incident_[q];
+    for (int32_t y : incident_.at(tu)) {
+      if (y == id) continue;  // (a cell on both sides of one sheet: none, the fronts' cells being cut)
+      for (Face& f : cell(y))
+        for (size_t e = 0; e < f.v.size(); ++e) {
+          const int32_t x = f.v[e], z = f.v[(e + 1) % f.v.size()];
+          if ((x == tu && z == tw) || (x == tw && z == tu)) {
+            f.v.insert(f.v.begin() + std::ptrdiff_t(e + 1), q);
+            if (around.empty() || around.back() != y) around.push_back(y);
+            break;
+          }
+        }
+    }
+  }
+
+  // Each crack face of the cell that the cut split has a twin across the crack, in another cell,
+  // on the twin points: it is split the same way, each part kept by that cell (whose own
+  // faces are unchanged otherwise), so the crack's faces still pair one to one.
+  void split_crack_twins(int32_t id, const Cell& whole, const Attempt& a, int32_t base) {
+    if (twin_.empty()) return;
+    for (size_t fi = 0; fi < whole.size(); ++fi) {
+      if (whole[fi].gen >= 0) continue;
+      std::vector<const Face*> parts;
+      for (const Cell& piece : a.pieces)
+        for (const Face& f : piece)
+          if (f.from == int32_t(fi)) parts.push_back(&f);
+      if (parts.size() < 2) continue;
+      std::vector<int32_t> across;
+      bool crack = false;
+      for (int32_t p : a.face_with_cuts[fi]) {
+        const int32_t real = p >= 0 ? p : base + (-p - 1);
+        across.push_back(crack_twin(real));
+        crack = crack || across.back() != real;
+      }
+      if (!crack) continue;
+      const std::vector<int32_t> key = sorted_vertices(across);
+      for (int32_t y : incident_.at(across.front())) {
+        if (y == id) continue;
+        Cell& other = cell(y);
+        size_t t = 0;
+        while (t < other.size() && !(other[t].gen < 0 && sorted_vertices(other[t].v) == key)) ++t;
+        if (t == other.size()) continue;
+        const Face twin = other[t];
+        other.erase(other.begin() + std::ptrdiff_t(t));
+        for (const Face* f : parts) {
+          Face half = twin;
+          half.v.clear();
+          for (auto p = f->v.rbegin(); p != f->v.rend(); ++p) half.v.push_back(crack_twin(*p));
+          other.push_back(std::move(half));
+        }
+        break;
+      }
+    }
+  }
+
   std::vector<int32_t> commit(int32_t id, const Cell& whole, Attempt& a) {
     // The new vertices enter every face through their edge, in every cell around it.
     const int32_t base = int32_t(m_.points.size());
@@ -437,6 +512,7 @@ class Splitter {
         if (has) around.push_back(y);
       }
     }
+    for (size_t k = 0; k < a.fresh.size(); ++k) add_crack_twin(base + int32_t(k), a.edges[k].first, a.edges[k].second, id);
     std::vector<int32_t> ids{id};
     const int32_t origin = id < int32_t(n0_) ? id : int32_t(parent_[size_t(id) - n0_]);
     for (size_t k = 1; k < a.pieces.size(); ++k) {
@@ -472,6 +548,7 @@ class Splitter {
             other.push_back(std::move(back));
           }
     }
+    split_crack_twins(id, whole, a, base);
     for (size_t k = 0; k < a.pieces.size(); ++k) {
       for (Face& f : a.pieces[k]) f.from = -1, f.cap_to = -1;
       if (k > 0)
@@ -553,6 +630,9 @@ class Splitter {
   std::vector<uint32_t> parent_;  // of the cells made here (ids from n0_): the original cell
   std::unordered_map<int32_t, std::vector<int32_t>> children_;
   std::unordered_map<int32_t, std::vector<int32_t>> incident_;  // vertex -> cells through it
+  // A cracked solid's point twins (FaceScratch::point_twin), grown with the cuts' points; empty
+  // without cracks.
+  std::vector<int32_t> twin_;
 };
 
 }  // namespace

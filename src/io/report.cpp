@@ -71,7 +71,8 @@ std::string report_json_text(const RunReport& run, const PartitionSummary* parti
                            {"area_from_a", c.from_a},
                            {"area_from_b", c.from_b},
                            {"faces_a", c.faces_a},
-                           {"faces_b", c.faces_b}});
+                           {"faces_b", c.faces_b},
+                           {"faces_on_front", c.faces_on_front}});
   if (!run.cracks.empty())
     j["sampling"].update({{"crack_curve_seeds", s.crack_edge_seeds}, {"crack_sheet_seeds", s.crack_face_seeds}});
   if (!run.regions.empty())

@@ -128,7 +128,9 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
     for (const Domain& solid : domain.regions->solids) region_fs.push_back(measure_feature_size(solid, 2 * opt.r));
     for (size_t k = 0; k < region_fs.size(); ++k) regions.push_back({&domain.regions->solids[k], &region_fs[k]});
   }
-  SizingField h = SizingField::from_feature_size(domain, fs, opt.r, {opt.min_r, opt.grading}, regions);
+  // A cut solid's walls are the solid's (measure_features): the field is fitted to it too.
+  const Domain& measured = domain.cracks ? domain.cracks->solid : domain;
+  SizingField h = SizingField::from_feature_size(measured, fs, opt.r, {opt.min_r, opt.grading}, regions);
   run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
                 h.cell_ratio,         h.floor_raised};
   run.stages.push_back({"sizing", watch.lap(), peak_rss_bytes()});
@@ -237,8 +239,8 @@ struct WeldedCells {
 WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, Stopwatch& watch) {
   WeldedCells welded;
   if (!(*opt.weld > 0)) {
-    if (!opt.convex) scratch_of(mesh).face_interface_facet.clear();  // (--convex cuts by interface planes too)
-    scratch_of(mesh).point_twin.clear();
+    // (--convex cuts by interface planes too, and splits a crack face's twin with it)
+    if (!opt.convex) scratch_of(mesh).face_interface_facet.clear(), scratch_of(mesh).point_twin.clear();
     return welded;
   }
   stage_starts(opt, "welding");
@@ -303,6 +305,21 @@ void measure_cracks(const CrackSet& set, const PolyMesh& mesh, RunReport& run) {
     (side == 0 ? c.from_a : c.from_b) += face_area(mesh, f);
     ++(side == 0 ? c.faces_a : c.faces_b);
   }
+  // The points of side b's faces, by sheet: a side-a face on them only lies on the front.
+  std::vector<int32_t> on_side_b(mesh.points.size(), -1);
+  for (int pass = 0; pass < 2; ++pass)
+    for (size_t f = 0; f < mesh.face_count(); ++f) {
+      if (!is_border_generator(mesh.face_generator[f])) continue;
+      const auto [k, side] = of_patch[size_t(mesh.patch_of(f))];
+      if (side != 1 - pass) continue;
+      bool all = true;
+      for (int64_t v = mesh.face_vertex_begin[f]; v < mesh.face_vertex_begin[f + 1]; ++v) {
+        int32_t& mark = on_side_b[size_t(mesh.face_vertices[size_t(v)])];
+        if (pass == 0) mark = int32_t(k);
+        all = all && mark == int32_t(k);
+      }
+      if (pass == 1) run.cracks[k].faces_on_front += all;
+    }
 }
 
 // Volumes, structural checks, quality and counts of the finished mesh (or piece).

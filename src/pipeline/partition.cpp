@@ -250,7 +250,8 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
   out.put(mine.interface_cells);
   for (const RunReport::Region& r : mine.regions) out.put(r.cells), out.put(r.volume);
   for (const RunReport::Interface& i : mine.interfaces) out.put(i.from_a), out.put(i.from_b);
-  for (const RunReport::Crack& c : mine.cracks) out.put(c.from_a), out.put(c.from_b), out.put(c.faces_a), out.put(c.faces_b);
+  for (const RunReport::Crack& c : mine.cracks) out.put(c.from_a), out.put(c.from_b), out.put(c.faces_a), out.put(c.faces_b),
+        out.put(c.faces_on_front);
   out.put(uint64_t(mine.stages.size()));
   for (const StageTiming& s : mine.stages) out.put(s.seconds), out.put(s.peak_rss_bytes);
   out.put(bool(mine.welding));
@@ -272,7 +273,7 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
   run.interface_cells = 0;
   for (RunReport::Region& r : run.regions) r.cells = 0, r.volume = 0;
   for (RunReport::Interface& i : run.interfaces) i.from_a = i.from_b = 0;
-  for (RunReport::Crack& c : run.cracks) c.from_a = c.from_b = 0, c.faces_a = c.faces_b = 0;
+  for (RunReport::Crack& c : run.cracks) c.from_a = c.from_b = 0, c.faces_a = c.faces_b = c.faces_on_front = 0;
   for (StageTiming& s : run.stages) s.seconds = 0, s.peak_rss_bytes = 0;
   std::optional<WeldStats> weld;
   std::optional<QualityReport> quality[2];
@@ -311,9 +312,9 @@ PartitionSummary combine_rank_reports(Communicator& comm, const RunReport& mine,
     }
     for (RunReport::Crack& c : run.cracks) {
       double a = 0, b = 0;
-      size_t fa = 0, fb = 0;
-      in.get(a), in.get(b), in.get(fa), in.get(fb);
-      c.from_a += a, c.from_b += b, c.faces_a += fa, c.faces_b += fb;
+      size_t fa = 0, fb = 0, front = 0;  // (a face and its twin on two ranks: counted on neither)
+      in.get(a), in.get(b), in.get(fa), in.get(fb), in.get(front);
+      c.from_a += a, c.from_b += b, c.faces_a += fa, c.faces_b += fb, c.faces_on_front += front;
     }
     uint64_t stages = 0;
     in.get(stages);

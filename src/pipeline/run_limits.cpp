@@ -100,10 +100,6 @@ void check_mesh_options(const Domain& domain, const MeshOptions& given, double s
                                        weld));
   // Checked here, not where the sizing field is made, so that a bad value is refused whatever
   // the part (a part without thin walls never makes one).
-  if (opt.grade && domain.cracks)
-    fail(ErrorKind::Usage, "grading is not supported with cracks yet: mesh a cracked part at one radius");
-  if (opt.convex && domain.cracks)
-    fail(ErrorKind::Usage, "convex cells are not supported with cracks yet");
   if (opt.grade) {
     if (!(opt.grading > 0) || !(opt.grading < 0.25))
       fail(ErrorKind::Usage, fmt::format("the maximum grading must be in (0, 0.25), got {} (the field's slope is sqrt(3) times "

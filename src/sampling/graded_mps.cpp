@@ -538,9 +538,9 @@ class GradedSampler {
   }
 
   // Reflex edges first (paper §2.2), at h_e = h/sqrt(2), then a multi-region solid's interfaces
-  // (protect_interfaces.hpp); the free seeds keep h from them.
+  // or a cut solid's crack sheets (protect_interfaces.hpp); the free seeds keep h from them.
   void protect() {
-    if (!d_.regions && (d_.convex || d_.reflex_curves.empty())) return;
+    if (!d_.regions && !d_.cracks && (d_.convex || d_.reflex_curves.empty())) return;
     const ProtectionSeeds p = protect_boundary_and_interfaces(
         d_, r_, seed_, s_.stats, [&](Vec3 x) { return h_.at(x); }, h_.lipschitz());
     for (size_t k = 0; k < p.points.size(); ++k) {

@@ -18,7 +18,8 @@ Vec3 normal_of(const TriangleSurface& s, const std::array<int32_t, 3>& t) {
 }  // namespace
 
 ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, uint64_t seed,
-                               const std::vector<Vec3>& prior, InterfaceProtectionStats* stats) {
+                               const std::vector<Vec3>& prior, InterfaceProtectionStats* stats,
+                               const std::function<double(Vec3)>& h, double lipschitz) {
   std::vector<ProtectedTriangle> tris;
   std::vector<LinePiece> segments;
   // Curve edges by their rounded end points, once each (a crossing is listed by both sheets),
@@ -70,7 +71,7 @@ ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, 
   for (const auto& [p, d] : degree)
     if (d.first != 2) corners.push_back({{p[0], p[1], p[2]}, d.second});
   return sample_facets_and_curves(std::move(tris), std::move(segments), corners, r, seed, prior,
-                                  1e-12 * extent, RandomStream::Cracks, stats);
+                                  1e-12 * extent, RandomStream::Cracks, stats, h, lipschitz);
 }
 
 }  // namespace froth

@@ -13,9 +13,11 @@
 
 namespace froth {
 
-// A pure function of (sheets, r, seed). Seeds on curves come first (kind InterfaceEdge), then
+// A pure function of (sheets, r, seed, h). Seeds on curves come first (kind InterfaceEdge), then
 // seeds on the triangles (InterfaceFace); `inward` is each seed's side a (the sheet's normal).
+// With a sizing field h (--grade) the disks are the interfaces' factors times h (interface_factors).
 ProtectionSeeds protect_cracks(const std::vector<CrackSheet>& sheets, double r, uint64_t seed,
-                               const std::vector<Vec3>& prior, InterfaceProtectionStats* stats = nullptr);
+                               const std::vector<Vec3>& prior, InterfaceProtectionStats* stats = nullptr,
+                               const std::function<double(Vec3)>& h = {}, double lipschitz = 0);
 
 }  // namespace froth

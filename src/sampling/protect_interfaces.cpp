@@ -326,9 +326,10 @@ namespace {
 // The crack sheets' seeds (protect_cracks), clear of the boundary's, appended to `p`. A seed's
 // side a is its inward direction; where that runs along the solid's surface (a seed on a line
 // where the sheet meets it), it is tipped into the solid by the surface's inward normal there.
-void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSeeds& p, SamplingStats& stats) {
+void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSeeds& p, SamplingStats& stats,
+                     const std::function<double(Vec3)>& h, double lipschitz) {
   InterfaceProtectionStats cs;
-  ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs);
+  ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs, h, lipschitz);
   const size_t solid_planes = domain.cracks->solid.planes.size();  // the sheets' come after
   const double near = 1e-9 * domain.bounds.diagonal();
   std::vector<int32_t> tris;
@@ -363,7 +364,7 @@ ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, 
   const size_t reflex = p.points.size();
   stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
   stats.edge_seeds = reflex - stats.vertex_seeds;
-  if (domain.cracks) add_crack_seeds(domain, r, seed, p, stats);
+  if (domain.cracks) add_crack_seeds(domain, r, seed, p, stats, h, lipschitz);
   if (!domain.regions) return p;
   InterfaceProtectionStats is;
   const ProtectionSeeds q =

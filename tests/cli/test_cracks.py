@@ -123,22 +123,26 @@ def check_welded_alike(label, solid, sheet, name, r, seed, weld, work):
     check(unlike == 0 and faces["a"], f"{label} seed {seed}: {unlike} crack faces of side a unlike side b's")
 
 
-def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_front, work):
+def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_front, work, extra=()):
     out = os.path.join(work, f"{label}_{seed}.vtu")
     boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
     report = os.path.join(work, f"{label}_{seed}.json")
     p = froth("mesh", solid, "--crack", sheet, "-r", repr(r), "--seed", str(seed), "-o", out, "--boundary", boundary,
-              "--report", report)
+              "--report", report, *extra)
     check(p.returncode == 0, f"{label} seed {seed}: exit {p.returncode}: {p.stderr}")
     if p.returncode != 0:
         return
     check("every cell closed, every interior face matched" in p.stdout, f"{label}: the summary's checks")
     run = json.load(open(report))
+    if "--grade" in extra:
+        check(run["sizing"]["graded"], f"{label} seed {seed}: not graded ({run['sizing']})")
     crack = run["cracks"][0]
     area = crack["area"]
-    fronts = {"penny": 2 * (0.5 + 0.4), "edge": 0.45 * 2 + 0.6, "box_through": 0, "plate_through": 0, "lens": 0}
+    fronts = {"penny": 2 * (0.5 + 0.4), "edge": 0.45 * 2 + 0.6, "box_through": 0, "plate_through": 0, "lens": 0,
+              "plate_penny": 2 * (80 + 70)}
     if name in fronts:
         check(abs(crack["front_length"] - fronts[name]) <= 1e-9, f"{label}: front length {crack['front_length']}")
+    check(crack["faces_on_front"] == 0, f"{label} seed {seed}: {crack['faces_on_front']} crack faces on the front alone")
     for side in ("a", "b"):
         check(abs(crack[f"area_from_{side}"] - area) <= 1e-9 * area,
               f"{label} seed {seed}: report's side {side} {crack[f'area_from_{side}']} against {area}")
@@ -213,6 +217,37 @@ def main():
             for seed in (1, 2):
                 check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
                            sheet_normal, on_front, work)
+    # Graded (--grade): the plate is thinner than 2r, so h shrinks in it (to 0.57-0.63 r); the
+    # sheets' disks are the interfaces' factors times h. And convex cells (--convex): a cut
+    # through a crack face splits its twin across the crack alike. A through crack, and a
+    # delamination whose front runs round inside the plate.
+    plate_front = lambda p: (min(abs(p[0] - 60), abs(p[0] - 140), abs(p[1] - 60), abs(p[1] - 130))  # noqa: E731
+                             < 1e-9 * 304.8)
+    in_plate = [("plate_through", on_sheet_plane((0, 1, 0), 152.4), across, nowhere),
+                ("plate_penny", on_sheet_plane((0, 0, 1), 5, (60, 60, 0), (140, 130, 1e3)), up, plate_front)]
+    for option in ("--grade", "--convex"):
+        for name, on_sheet, normal, on_front in in_plate:
+            for fraction in (12, 20):
+                for seed in (1, 2):
+                    check_case(f"{name}{option.replace('-', '_')}_{fraction}", plate, os.path.join(CRACKS, f"{name}.obj"),
+                               name, 304.8 / fraction, seed, on_sheet, normal, on_front, work, (option,))
+    # A sheet narrower than the cells (a penny 6.35 tall across the 12.7 plate, at r = 25.4): its
+    # faces have only front points, the same as their twins'; the report counts them and the
+    # summary says so.
+    narrow = os.path.join(work, "narrow.obj")
+    with open(narrow, "w") as f:
+        f.write("v 40 60 3.175\nv 160 60 3.175\nv 160 60 9.525\nv 40 60 9.525\nf 1 2 3\nf 1 3 4\n")
+    report = os.path.join(work, "narrow.json")
+    p = froth("mesh", plate, "--crack", narrow, "-r", "25.4", "--seed", "1", "-o", os.path.join(work, "narrow.vtu"),
+              "--report", report)
+    crack = json.load(open(report))["cracks"][0] if p.returncode == 0 else {}
+    check(crack.get("faces_on_front", 0) > 0 and "have every point on the front" in p.stdout,
+          f"narrow sheet: {crack}, {p.stdout[-600:]} {p.stderr}")
+    # Convex cells where the crack itself makes cells non-convex: a curved sheet in the box.
+    for seed in (1, 2):
+        check_case("curved_convex_12", box, os.path.join(CRACKS, "curved.obj"), "curved", 1 / 12, seed,
+                   on_triangles(os.path.join(CRACKS, "curved.obj")), lambda p: (p[0] - 0.5, 0, p[2] + 0.3),
+                   on_box_edge((0.2, 0.3), (0.8, 0.7)), work, ("--convex",))
     # At 0.3 r (default 1e-4 r) the two sides of these welded apart before the weld mirrored them.
     for label, solid, sheet, name, size, *_ in cases:
         if label in ("box_through", "penny", "curved"):
