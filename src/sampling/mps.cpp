@@ -11,6 +11,11 @@ Sample Sampler::run() {
   protect();
   ActiveCubes active = initial_cubes();
   initial_active_ = active.size();
+  // Marks cost 8 bytes per cube of their blocks: at most 40 per active cube, under 300 per seed,
+  // while the sampler's memory is still far below the peak of the stages after it.
+  use_marks_ = 5 * initial_active_ >= grandchild_marks_.allocate(s_.grid, s_.cube_offset, s_.cube_seed.size(), active);
+  if (use_marks_) grandchild_marks_.fill();
+  else grandchild_marks_.release();
   int level = 0;
   // The first round's candidates of this level when the refinement before threw its darts.
   std::optional<Darts> thrown;
@@ -66,12 +71,8 @@ ActiveCubes Sampler::refine(const ActiveCubes& active, int level, std::optional<
   std::vector<std::vector<ActiveCube>> kept(chunks);
   const bool exact = level >= kFirstExactCoverageLevel;
   // The first two refinements' one-ball tests from the seeds' side (the seeds near a cube are
-  // then needed only for the exact test). Marks take 8 bytes per cube of the window: only where
-  // the domain fills a fifth of it or more, so they cost at most 40 bytes per cube of the
-  // domain, under 300 per seed, while the sampler's memory is still far below the peak of the
-  // stages after it. A thin or hollow solid's grid can be mostly empty cubes, where marks would
-  // cost far more than the seeds.
-  const bool marked = level <= 1 && 5 * initial_active_ >= s_.cube_seed.size();
+  // then needed only for the exact test), where the marks' blocks are not mostly empty (run()).
+  const bool marked = level <= 1 && use_marks_;
   if (marked) {
     mark_grandchildren_in_one_ball(marked_seeds_);
     marked_seeds_ = s_.seeds.size();
@@ -146,7 +147,7 @@ ActiveCubes Sampler::refine(const ActiveCubes& active, int level, std::optional<
     darts.thrown = thrown;
     next_darts = std::move(darts);
   }
-  if (level == 1) std::vector<uint64_t>().swap(grandchild_marks_);
+  if (level == 1) grandchild_marks_.release();
   std::erase_if(kept, [](const std::vector<ActiveCube>& part) { return part.empty(); });
   return {std::move(kept)};
 }

@@ -30,7 +30,6 @@ uint32_t Sampler::children_in_one_ball(Vec3 lo, double h, const std::vector<Vec3
 
 void Sampler::mark_grandchildren_in_one_ball(size_t first) {
   const auto& g = s_.grid;
-  grandchild_marks_.resize(s_.cube_seed.size(), 0);
   const int64_t layer = int64_t(g.nx) * g.ny;
   const int k_begin = int(s_.cube_offset / layer), k_end = k_begin + int(s_.cube_seed.size() / layer);
   // A seed marks cubes up to two layers from its own. The seeds are split by slabs of
@@ -106,7 +105,8 @@ void Sampler::mark_around(Vec3 q, int k_begin, int k_end) {
 #endif
             in |= row << (4 * y + 16 * z);
           }
-        if (in) grandchild_marks_[g.index(i, j, k) - s_.cube_offset] |= in;
+        if (!in) continue;
+        if (uint64_t* m = grandchild_marks_.at(i, j, k)) *m |= in;
       }
     }
   }
