@@ -16,6 +16,8 @@ import subprocess
 import tempfile
 import time
 
+import numpy as np
+
 ap = argparse.ArgumentParser()
 ap.add_argument("build")
 ap.add_argument("models")
@@ -70,6 +72,44 @@ for sheet in ("box_through.obj", "lens.obj", "penny.obj"):
         mesh(["box:0,0,0,1,1,1"], "--cells", "1e5", "--seed", "1", "--crack", os.path.join(CRACKS, sheet)), box)
 convex = mesh([os.path.join(a.models, "hinge.stl")], "-r", "0.6", "--seed", "1", "--convex")
 row("hinge.stl --convex", "-r 0.6 --convex", convex, box, f"convex stage {convex['stages'].get('convex', 0):.2f} s")
+
+
+def write_stl(path, tris):
+    rec = np.zeros(len(tris), dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    rec["v"] = tris
+    with open(path, "wb") as f:
+        f.write(b"\0" * 80 + np.uint32(len(tris)).tobytes() + rec.tobytes())
+
+
+def fine_surfaces():
+    """Two surfaces of 400,000 to 480,000 triangles: a thin torus (radii 1 and 0.03, 800 x 250
+    quads) and ADIS16480.STL with each triangle cut into 64 (three midpoint splits: fine facets
+    on flat CAD faces, the feature-size search's hard case)."""
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 800, endpoint=False), np.linspace(0, 2 * np.pi, 250, endpoint=False),
+                       indexing="ij")
+    P = np.stack([(1 + 0.03 * np.cos(v)) * np.cos(u), (1 + 0.03 * np.cos(v)) * np.sin(u), 0.03 * np.sin(v)], -1)
+    a, b = P, np.roll(P, -1, axis=0)
+    c, d = np.roll(b, -1, axis=1), np.roll(P, -1, axis=1)
+    torus = os.path.join(tmp, "torus_400k.stl")
+    write_stl(torus, np.concatenate([np.stack([a, b, c], -2).reshape(-1, 3, 3), np.stack([a, c, d], -2).reshape(-1, 3, 3)]))
+    t = np.array([[float(x) for x in line.split()[1:4]] for line in open(os.path.join(a_models, "ADIS16480.STL"))
+                  if line.strip().startswith("vertex")]).reshape(-1, 3, 3)
+    for _ in range(3):
+        p, q, r = t[:, 0], t[:, 1], t[:, 2]
+        pq, qr, rp = (p + q) / 2, (q + r) / 2, (r + p) / 2
+        t = np.concatenate([np.stack(x, 1) for x in ([p, pq, rp], [pq, q, qr], [rp, qr, r], [pq, qr, rp])])
+    adis = os.path.join(tmp, "ADIS16480_x64.stl")
+    write_stl(adis, t)
+    return [("torus, 400,000 triangles", torus, "-r", "0.04"), (f"ADIS16480 x64, {len(t):,} triangles", adis,
+                                                                   "--cells", "1e5")]
+
+
+a_models = a.models
+for case, path, *size in fine_surfaces():
+    m = mesh([path], *size, "--seed", "1", "--grade")
+    row(case, " ".join(size) + " --grade", m, box,
+        f"reading {m['stages']['reading']:.2f} s, feature size {m['stages'].get('feature size', 0):.2f} s, sizing "
+        f"{m['stages'].get('sizing', 0):.2f} s")
 vtu_write = box["stages"]["writing"]
 for fmt, out in (("Exodus II", "m.exo"), ("OpenFOAM", "case/constant/polyMesh"), ("facet graph", "m.npz"),
                  ("peridynamic nodes", "m.nodes")):

@@ -4,6 +4,7 @@
 #include <map>
 #include <optional>
 #include <numeric>
+#include <span>
 #include <sstream>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -158,7 +159,39 @@ struct EdgeUse {
   int32_t tri;
   bool forward;
 };
-using EdgeUses = std::map<std::pair<int32_t, int32_t>, std::vector<EdgeUse>>;
+// In a flat list sorted by edge, each edge's uses in the order the triangles come: a map of
+// vectors was a tenth of reading a 476,000-triangle part.
+class EdgeUses {
+ public:
+  explicit EdgeUses(const TriangleSurface& s) {
+    struct Key {
+      int32_t a, b;
+      EdgeUse use;
+    };
+    std::vector<Key> keys;
+    keys.reserve(3 * s.triangles.size());
+    for (size_t t = 0; t < s.triangles.size(); ++t)
+      for (int e = 0; e < 3; ++e) {
+        const int32_t a = s.triangles[t][e], b = s.triangles[t][(e + 1) % 3];
+        keys.push_back({std::min(a, b), std::max(a, b), {int32_t(t), a < b}});
+      }
+    std::stable_sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) { return std::pair(x.a, x.b) < std::pair(y.a, y.b); });
+    uses_.reserve(keys.size());
+    for (const Key& k : keys) uses_.push_back(k.use);
+    for (size_t i = 0; i < keys.size();) {
+      size_t j = i;
+      while (j < keys.size() && keys[j].a == keys[i].a && keys[j].b == keys[i].b) ++j;
+      groups_.push_back({{keys[i].a, keys[i].b}, std::span<const EdgeUse>(uses_.data() + i, j - i)});
+      i = j;
+    }
+  }
+  auto begin() const { return groups_.begin(); }
+  auto end() const { return groups_.end(); }
+
+ private:
+  std::vector<EdgeUse> uses_;
+  std::vector<std::pair<std::pair<int32_t, int32_t>, std::span<const EdgeUse>>> groups_;
+};
 
 // Each undirected edge must be used by exactly two triangles, in opposite directions unless
 // `repair`. Returns each triangle's neighbours across its edges, with whether they run the
@@ -352,12 +385,7 @@ static Domain validated_domain(const TriangleSurface& input, const std::string& 
   const auto& V = s.vertices;
   auto& T = s.triangles;
   check_points_and_triangles(s, name);
-  EdgeUses edges;
-  for (size_t t = 0; t < T.size(); ++t)
-    for (int e = 0; e < 3; ++e) {
-      int32_t a = T[t][e], b = T[t][(e + 1) % 3];
-      edges[{std::min(a, b), std::max(a, b)}].push_back({int32_t(t), a < b});
-    }
+  const EdgeUses edges(s);
   const auto across = check_edges(s, edges, name, repair);
   check_vertex_fans(s, edges, name);
   Domain d;
