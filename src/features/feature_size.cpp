@@ -42,54 +42,155 @@ std::vector<std::array<int32_t, 3>> edge_neighbours(const TriangleSurface& s) {
   return out;
 }
 
+double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
+  const Vec3 ab = b - a;
+  const double len2 = norm2(ab);
+  const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm2(p - (a + s * ab));
+}
+
+// Convex planar pieces of the surface: edge-connected triangles in one plane, grown from each
+// triangle in turn while they stay in its plane and their outline convex, both within
+// `tolerance`, the round-off of a float input (a facet cut in four has its new corners rounded
+// off its plane and off its edges' lines). A convex piece's part in a
+// ball is convex, as a triangle's is, so the search below steps piece by piece: two pieces
+// connect inside the ball exactly where a triangle edge between them meets it. Where a CAD
+// export cuts flat faces into many facets, this is what keeps the search from settling every
+// facet of the ball (ADIS16480 cut into 64 per triangle: 250 us per search).
+struct ConvexPieces {
+  struct Rim {
+    int32_t a, b;    // a triangle edge between two pieces, in its triangle on this side's order
+    int32_t across;  // the piece beyond
+  };
+  std::vector<int32_t> of;  // per triangle
+  std::vector<Vec3> centre;  // per piece: its triangles' mean centroid
+  std::vector<uint32_t> rim_begin;
+  std::vector<Rim> rims;
+
+  ConvexPieces(const TriangleSurface& s, const std::vector<std::array<int32_t, 3>>& adj, const std::vector<Vec3>& normal,
+               const std::vector<Vec3>& centroid, double tolerance) {
+    const auto& T = s.triangles;
+    const auto& V = s.vertices;
+    const size_t n = T.size();
+    of.assign(n, -1);
+    constexpr int kMaxTriangles = 1024;  // bounds the outline's length, and so each growth step
+    std::vector<int32_t> loop;                     // the outline, counter-clockwise seen from outside
+    std::vector<std::pair<int32_t, int>> edge_of;  // edge loop[i] -> loop[i + 1]: (triangle, its edge)
+    std::vector<int32_t> members;
+    for (size_t t0 = 0; t0 < n; ++t0) {
+      if (of[t0] >= 0) continue;
+      const int32_t id = int32_t(centre.size());
+      of[t0] = id;
+      members.assign(1, int32_t(t0));
+      loop.assign(T[t0].begin(), T[t0].end());
+      edge_of = {{int32_t(t0), 0}, {int32_t(t0), 1}, {int32_t(t0), 2}};
+      const Vec3 nrm = normal[t0];
+      // y turns left (or goes straight, within the tolerance) from x towards z.
+      auto convex = [&](int32_t x, int32_t y, int32_t z) {
+        const Vec3 e = V[size_t(z)] - V[size_t(x)];
+        return dot(cross(V[size_t(y)] - V[size_t(x)], e), nrm) >= -tolerance * norm(e);
+      };
+      for (bool grew = true; grew && members.size() < kMaxTriangles;) {
+        grew = false;
+        for (size_t i = 0; i < loop.size() && members.size() < kMaxTriangles; ++i) {
+          const auto [tt, k] = edge_of[i];
+          const int32_t u = adj[size_t(tt)][size_t(k)];
+          if (u < 0 || of[size_t(u)] >= 0 || dot(normal[size_t(u)], nrm) < 0.5) continue;
+          const size_t m = loop.size();
+          const int32_t a = loop[i], b = loop[(i + 1) % m], prev = loop[(i + m - 1) % m], next = loop[(i + 2) % m];
+          int kb = 0;  // u runs the edge b -> a as its edge kb
+          while (kb < 3 && !(T[size_t(u)][size_t(kb)] == b && T[size_t(u)][size_t((kb + 1) % 3)] == a)) ++kb;
+          if (kb == 3) continue;
+          const int32_t c = T[size_t(u)][size_t((kb + 2) % 3)];
+          if (std::abs(dot(V[size_t(c)] - V[size_t(loop[0])], nrm)) > tolerance) continue;  // off the plane
+          const std::pair<int32_t, int> ac{u, (kb + 1) % 3}, cb{u, (kb + 2) % 3};
+          if (c == prev && m > 3) {  // u fills the notch at a
+            if (!convex(loop[(i + m - 2) % m], c, b) || !convex(c, b, next)) continue;
+            edge_of[(i + m - 1) % m] = cb;
+            loop.erase(loop.begin() + std::ptrdiff_t(i)), edge_of.erase(edge_of.begin() + std::ptrdiff_t(i));
+          } else if (c == next && m > 3) {  // u fills the notch at b
+            if (!convex(prev, a, c) || !convex(a, c, loop[(i + 3) % m])) continue;
+            edge_of[i] = ac;
+            const size_t at = (i + 1) % m;
+            loop.erase(loop.begin() + std::ptrdiff_t(at)), edge_of.erase(edge_of.begin() + std::ptrdiff_t(at));
+          } else if (std::find(loop.begin(), loop.end(), c) == loop.end()) {
+            if (!convex(prev, a, c) || !convex(a, c, b) || !convex(c, b, next)) continue;
+            edge_of[i] = ac;
+            loop.insert(loop.begin() + std::ptrdiff_t(i + 1), c), edge_of.insert(edge_of.begin() + std::ptrdiff_t(i + 1), cb);
+          } else {
+            continue;
+          }
+          of[size_t(u)] = id;
+          members.push_back(u);
+          grew = true;
+        }
+      }
+      Vec3 c{};
+      for (int32_t t : members) c = c + centroid[size_t(t)];
+      centre.push_back((1.0 / double(members.size())) * c);
+    }
+    rim_begin.assign(centre.size() + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<uint32_t> fill;
+      if (pass == 1) {
+        for (size_t q = 1; q < rim_begin.size(); ++q) rim_begin[q] += rim_begin[q - 1];
+        rims.resize(rim_begin.back());
+        fill.assign(rim_begin.begin(), rim_begin.end() - 1);
+      }
+      for (size_t t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) {
+          const int32_t u = adj[t][size_t(k)];
+          if (u < 0 || of[size_t(u)] == of[t]) continue;
+          if (pass == 0) ++rim_begin[size_t(of[t]) + 1];
+          else rims[fill[size_t(of[t])]++] = {T[t][size_t(k)], T[t][size_t((k + 1) % 3)], of[size_t(u)]};
+        }
+    }
+  }
+};
+
 // Per thread: is triangle q reachable from triangle t across shared edges without leaving the
 // ball of radius `ball` around p? A triangle's part in a ball is convex, so two triangles connect
-// inside the ball exactly where their shared edge meets it. The search runs best first towards
-// q, so a hit that is reachable (the far face of a wedge, over its edge) is found along a short
-// path instead of by settling the whole ball: a fan of slivers (a CAD cylinder's cap) would put
-// every triangle of the part in it, for every triangle.
+// inside the ball exactly where their shared edge meets it; the search steps over convex pieces
+// of triangles alike (ConvexPieces). It runs best first towards q, so a hit that is reachable
+// (the far face of a wedge, over its edge) is found along a short path instead of by settling
+// the whole ball: a fan of slivers (a CAD cylinder's cap) would put every triangle of the part in
+// it, for every triangle.
 class Reach {
  public:
-  Reach(const TriangleSurface& s, const std::vector<std::array<int32_t, 3>>& adj, const std::vector<Vec3>& centroid)
-      : s_(s), adj_(adj), centroid_(centroid), seen_(s.triangles.size(), 0) {}
+  Reach(const TriangleSurface& s, const ConvexPieces& pieces, const std::vector<Vec3>& centroid)
+      : s_(s), pieces_(pieces), centroid_(centroid), seen_(pieces.centre.size(), 0) {}
 
   bool reaches(int32_t from, Vec3 p, int32_t q, double ball) {
-    if (from == q) return true;
+    const int32_t start = pieces_.of[size_t(from)], goal = pieces_.of[size_t(q)];
+    if (start == goal) return true;  // (q meets the ball: the hit on it lies inside)
     if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
     const double ball2 = ball * ball;
-    const Vec3 goal = centroid_[size_t(q)];
+    const Vec3 target = centroid_[size_t(q)];
     heap_.clear();
-    auto push = [&](int32_t t) {
-      seen_[size_t(t)] = stamp_;
-      heap_.push_back({norm2(centroid_[size_t(t)] - goal), t});
+    auto push = [&](int32_t piece) {
+      seen_[size_t(piece)] = stamp_;
+      heap_.push_back({norm2(pieces_.centre[size_t(piece)] - target), piece});
       std::push_heap(heap_.begin(), heap_.end(), std::greater<>());
     };
-    push(from);
+    push(start);
     while (!heap_.empty()) {
       std::pop_heap(heap_.begin(), heap_.end(), std::greater<>());
-      const int32_t t = heap_.back().second;
+      const int32_t piece = heap_.back().second;
       heap_.pop_back();
-      for (int k = 0; k < 3; ++k) {
-        const int32_t u = adj_[size_t(t)][size_t(k)];  // across the edge (k, k+1)
-        if (u < 0 || seen_[size_t(u)] == stamp_) continue;
-        const auto& tri = s_.triangles[size_t(t)];
-        if (segment_distance2(p, s_.vertices[size_t(tri[k])], s_.vertices[size_t(tri[(k + 1) % 3])]) > ball2) continue;
-        if (u == q) return true;
-        push(u);
+      for (uint32_t r = pieces_.rim_begin[size_t(piece)]; r < pieces_.rim_begin[size_t(piece) + 1]; ++r) {
+        const ConvexPieces::Rim& rim = pieces_.rims[r];
+        if (seen_[size_t(rim.across)] == stamp_) continue;
+        if (segment_distance2(p, s_.vertices[size_t(rim.a)], s_.vertices[size_t(rim.b)]) > ball2) continue;
+        if (rim.across == goal) return true;
+        push(rim.across);
       }
     }
     return false;
   }
 
  private:
-  static double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
-    const Vec3 ab = b - a;
-    const double len2 = norm2(ab);
-    const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return norm2(p - (a + s * ab));
-  }
   const TriangleSurface& s_;
-  const std::vector<std::array<int32_t, 3>>& adj_;
+  const ConvexPieces& pieces_;
   const std::vector<Vec3>& centroid_;
   std::vector<uint32_t> seen_;
   uint32_t stamp_ = 0;
@@ -161,10 +262,11 @@ FeatureSize measure_feature_size(const Domain& domain, double cap) {
   for (size_t t = 0; t < n; ++t) shell[t] = shells.find(int32_t(t));
 
   const double floor = 1e-12 * domain.bounds.diagonal();  // hits at the start point itself
+  const ConvexPieces pieces(S, adj, normal, centroid, 1e-7 * domain.bounds.diagonal());
 
 #pragma omp parallel
   {
-    Reach reach(S, adj, centroid);
+    Reach reach(S, pieces, centroid);
     std::vector<std::pair<double, int32_t>> hits;
     std::vector<Tree::Intersection_and_primitive_id<K::Segment_3>::Type> found;
 #pragma omp for schedule(dynamic, 256)
