@@ -73,9 +73,15 @@ HEATER = [os.path.join(MODELS, "multi_region_heater", f + ".stl")
 # The hollow sphere at diag/30 is graded (its shell is thinner than 2r): the graded sample is
 # drawn whole on every rank, the cells divided. Each case is at least 36 layers of sampling
 # cubes high, for 3 slabs of 12 (froth/partition.hpp's kCellHaloLayers).
+# And the graded hollow sphere cut through along the plane x = 0.1 (a crack with --grade).
+sheet = os.path.join(tmp, "through_x.obj")
+with open(sheet, "w") as f:
+    f.write("v 0.1 -0.7 -0.7\nv 0.1 0.7 -0.7\nv 0.1 0.7 0.7\nv 0.1 -0.7 0.7\nf 1 2 3\nf 1 3 4\n")
 for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
                                ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0577", ["--grade"]),
+                               ("hollow_sphere_graded_cracked", os.path.join(MODELS, "hollow_sphere.off"), "0.0577",
+                                ["--grade", "--crack", sheet]),
                                ("heater", HEATER, "0.006", [])):
     domain = domain if isinstance(domain, list) else [domain]
     serial_path = os.path.join(tmp, f"{name}_serial.vtu")
