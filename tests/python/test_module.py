@@ -139,6 +139,13 @@ def test_cracks_match_the_command_line(tmp_path):
     penny = froth.mesh(BOX, r=0.1, cracks=sheet.with_name("penny.obj"))  # a front inside the box
     crack = penny.report["cracks"][0]
     assert abs(crack["area_from_a"] - 0.2) < 1e-9 and abs(crack["area_from_b"] - 0.2) < 1e-9
+    # Graded, and convex cells, on a plate cut through: the command line's bytes.
+    plate, through = str(MODELS / "plate_holes.STL"), sheet.with_name("plate_through.obj")
+    for options, flags in ((dict(grade=True), ["--grade"]), (dict(convex=True), ["--convex"])):
+        m = froth.mesh(plate, r=25.4, seed=1, cracks=through, **options)
+        m.write(tmp_path / "plate_py.vtu")
+        cli("mesh", plate, "--crack", through, "-r", "25.4", "--seed", "1", *flags, "-q", "-o", tmp_path / "plate_cli.vtu")
+        assert same_bytes(tmp_path / "plate_py.vtu", tmp_path / "plate_cli.vtu"), flags
 
 
 def test_read_gives_back_the_written_mesh(tmp_path):
