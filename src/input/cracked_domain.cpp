@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <tuple>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -140,123 +141,207 @@ std::vector<int32_t> sheet_facets(const TriangleSurface& s, const std::vector<ui
   return facet;
 }
 
-// Where a sheet meets the solid's surface along a line, the surface is cut open there: at each
-// line vertex (not on the front, where the crack closes) the surface's triangles fall into two
-// fans, one on each side of the sheet; the fan on side b takes a new copy of the vertex. Returns
-// each line vertex's copy for side b (itself where the vertex is not doubled).
-std::map<int32_t, int32_t> cut_along_lines(TriangleSurface& cut, const std::vector<CrackSheet>& sheets,
-                                           const std::map<Key, int32_t>& cut_vertex) {
-  struct LineEdge {
-    int32_t other;       // the edge's other end on the cut surface
-    size_t sheet;
-    int32_t sheet_tri;   // the sheet's triangle on the edge
-  };
-  std::map<int32_t, std::vector<LineEdge>> lines;  // line vertex -> its line edges
-  std::map<int32_t, size_t> front_at;              // cut vertices on a front
-  for (size_t k = 0; k < sheets.size(); ++k) {
-    const CrackSheet& c = sheets[k];
-    const TriangleSurface& S = c.surface;
-    auto cut_id = [&](int32_t v) {
-      const auto it = cut_vertex.find(key_of(S.vertices[size_t(v)]));
-      if (it == cut_vertex.end())
-        fail(ErrorKind::Internal, fmt::format("crack {}: its line on the solid's surface at {} is not on the corefined surface",
-                                              c.name, at(S.vertices[size_t(v)])));
-      return it->second;
-    };
-    std::map<std::pair<int32_t, int32_t>, int32_t> tri_of_edge;
-    for (size_t t = 0; t < S.triangles.size(); ++t)
-      for (int q = 0; q < 3; ++q) tri_of_edge[{S.triangles[t][size_t(q)], S.triangles[t][size_t((q + 1) % 3)]}] = int32_t(t);
-    for (const auto& e : c.on_boundary) {
-      const int32_t t = tri_of_edge.at({e[0], e[1]});
-      const int32_t a = cut_id(e[0]), b = cut_id(e[1]);
-      lines[a].push_back({b, k, t});
-      lines[b].push_back({a, k, t});
-    }
-    for (const auto& e : c.front)
-      for (int32_t v : e) {
-        const auto it = cut_vertex.find(key_of(S.vertices[size_t(v)]));
-        if (it != cut_vertex.end()) front_at[it->second] = k;
-      }
+// The cut's vertex copies (decided here). Round each vertex, the solid less the sheets falls into
+// sectors, and the cut surface has one copy of the vertex per sector. Each side of a triangle
+// near a vertex (the solid surface's inner side; either side of a sheet's) lies in one sector;
+// two sides are in one sector where they face each other across a wedge round an edge at the
+// vertex, found by sorting the edge's triangles round it (exact predicates). So an inner sheet
+// vertex has two copies, a front vertex one (the wedge round a front edge joins its triangle's
+// two sides), a vertex where a sheet meets the surface two (the surface's fans on either side),
+// a vertex on the curve where two sheets cross four, and where one's front crosses the other two.
+class CutOpen {
+ public:
+  // Per sheet, per triangle, its corners' copies on side a and on side b.
+  using SheetCopies = std::vector<std::array<std::array<int32_t, 3>, 2>>;
+
+  // `s`: the solid's surface corefined with the sheets, cut open here (its vertices gain the
+  // copies, its triangles take their sector's); `sheets` clipped and conformed.
+  CutOpen(TriangleSurface& s, const std::vector<CrackSheet>& sheets) : s_(s), sheets_(sheets) {
+    number_points();
+    join_sectors();
+    assign_copies();
   }
-  std::map<int32_t, int32_t> side_b;
-  if (lines.empty()) return side_b;
-  // The surface's triangle corners at each line vertex.
-  const auto& T = cut.triangles;
-  std::map<int32_t, std::vector<std::pair<int32_t, int>>> corners;  // vertex -> (triangle, corner)
-  for (size_t t = 0; t < T.size(); ++t)
-    for (int q = 0; q < 3; ++q)
-      if (lines.count(T[t][size_t(q)])) corners[T[t][size_t(q)]].push_back({int32_t(t), q});
-  std::vector<std::pair<std::pair<int32_t, int>, int32_t>> moves;  // (triangle, corner) to side b's copy
-  for (const auto& entry : lines) {  // (not a structured binding: clang 14 cannot capture one)
-    const int32_t w = entry.first;
-    const std::vector<LineEdge>& line_edges = entry.second;
-    const Vec3 pw = cut.vertices[size_t(w)];
-    for (const LineEdge& e : line_edges)
-      if (sheets[e.sheet].name != sheets[line_edges[0].sheet].name)
-        refuse(sheets[e.sheet], fmt::format("it meets crack {} on the solid's surface at {}: cracks that meet there "
-                                            "are not supported yet",
-                                            sheets[line_edges[0].sheet].name, at(pw)));
-    side_b[w] = w;
-    if (front_at.count(w)) continue;  // the front meets the surface: the crack closes here
-    const CrackSheet& c = sheets[line_edges[0].sheet];
-    // Fans: corners joined across the edges at w that are not line edges.
-    const auto& cs = corners[w];
-    UnionFind fans(cs.size());
-    auto is_line = [&](int32_t x) {
-      return std::any_of(line_edges.begin(), line_edges.end(), [x](const LineEdge& e) { return e.other == x; });
-    };
-    std::map<int32_t, size_t> first_with;  // other end of an edge at w -> first corner using it
-    for (size_t i = 0; i < cs.size(); ++i) {
-      const auto& tri = T[size_t(cs[i].first)];
-      for (int32_t x : {tri[size_t((cs[i].second + 1) % 3)], tri[size_t((cs[i].second + 2) % 3)]}) {
-        if (is_line(x)) continue;
-        const auto [it, added] = first_with.try_emplace(x, i);
-        if (!added) fans.unite(int32_t(it->second), int32_t(i));
-      }
-    }
-    // Each fan's side: a triangle of it on a line edge against the sheet's triangle there.
-    std::map<int32_t, int> fan_side;  // root -> +1 side a, -1 side b
-    for (size_t i = 0; i < cs.size(); ++i) {
-      const auto& tri = T[size_t(cs[i].first)];
-      const int32_t next = tri[size_t((cs[i].second + 1) % 3)], prev = tri[size_t((cs[i].second + 2) % 3)];
-      for (const LineEdge& e : line_edges) {
-        if (e.other != next && e.other != prev) continue;
-        const int32_t far = e.other == next ? prev : next;
-        const auto& st = c.surface.triangles[size_t(e.sheet_tri)];
-        const auto& SV = c.surface.vertices;
-        const auto o = CGAL::orientation(point(SV[size_t(st[0])]), point(SV[size_t(st[1])]), point(SV[size_t(st[2])]),
-                                         point(cut.vertices[size_t(far)]));
-        if (o != CGAL::COPLANAR) fan_side.try_emplace(fans.find(int32_t(i)), o == CGAL::POSITIVE ? 1 : -1);
-      }
-    }
-    std::map<int32_t, int> sides;
-    for (size_t i = 0; i < cs.size(); ++i) sides[fans.find(int32_t(i))] = 0;
-    for (auto& [root, s] : sides) s = fan_side.count(root) ? fan_side[root] : 0;
-    const auto a = std::count_if(sides.begin(), sides.end(), [](const auto& rs) { return rs.second > 0; });
-    const auto b = std::count_if(sides.begin(), sides.end(), [](const auto& rs) { return rs.second < 0; });
-    if (sides.size() != 2 || a != 1 || b != 1)
-      refuse(c, fmt::format("where it meets the solid's surface at {} the surface does not part into one side on each "
-                            "face of the crack ({} fans): the crack must cross the surface, not graze it",
-                            at(pw), sides.size()));
-    const int32_t copy = int32_t(cut.vertices.size());
-    cut.vertices.push_back(pw);
-    side_b[w] = copy;
-    for (size_t i = 0; i < cs.size(); ++i)
-      if (sides[fans.find(int32_t(i))] < 0) moves.push_back({cs[i], copy});
+  std::vector<SheetCopies> sheet_copies;
+
+ private:
+  // Sides: 2t (the normal's side: a sheet's side a, outside the solid for the surface) and 2t + 1.
+  int32_t corner(int32_t side, int32_t v) const {
+    const auto& t = tri_[size_t(side / 2)];
+    return 3 * side + (t[0] == v ? 0 : t[1] == v ? 1 : 2);
   }
-  // (Moved once every fan is known: a fan is found by the line's edges as they were.)
-  for (const auto& [corner, copy] : moves) cut.triangles[size_t(corner.first)][size_t(corner.second)] = copy;
-  return side_b;
-}
+  bool on_surface(int32_t side) const { return size_t(side / 2) < s_.triangles.size(); }
+  size_t sheet_of(int32_t side) const {
+    return size_t(std::upper_bound(sheet_first_.begin(), sheet_first_.end(), size_t(side / 2)) - sheet_first_.begin() - 1);
+  }
+  Vec3 at_point(int32_t v) const { return point_[size_t(v)]; }
+
+  // One id per point, the surface's first; triangles: the surface's, then each sheet's.
+  void number_points() {
+    std::map<Key, int32_t> id;
+    point_ = s_.vertices;
+    for (size_t v = 0; v < point_.size(); ++v) id.emplace(key_of(point_[v]), int32_t(v));
+    tri_ = s_.triangles;
+    for (const CrackSheet& c : sheets_) {
+      sheet_first_.push_back(tri_.size());
+      std::vector<int32_t> g(c.surface.vertices.size());
+      for (size_t v = 0; v < g.size(); ++v) {
+        const auto [it, added] = id.try_emplace(key_of(c.surface.vertices[v]), int32_t(point_.size()));
+        if (added) point_.push_back(c.surface.vertices[v]);
+        g[v] = it->second;
+      }
+      for (const auto& e : c.on_boundary)
+        for (int32_t v : e)
+          if (size_t(g[size_t(v)]) >= s_.vertices.size())
+            fail(ErrorKind::Internal, fmt::format("crack {}: its line on the solid's surface at {} is not on the corefined surface",
+                                                  c.name, at(c.surface.vertices[size_t(v)])));
+      for (const auto& t : c.surface.triangles) tri_.push_back({g[size_t(t[0])], g[size_t(t[1])], g[size_t(t[2])]});
+      sheet_global_.push_back(std::move(g));
+    }
+  }
+
+  // The triangles round each edge in turn (about the edge from its smaller id to its larger);
+  // the two sides facing each other across each wedge between neighbours joined at both ends.
+  void join_sectors() {
+    struct Use {
+      int32_t u, w, t;
+      bool forward;  // t runs u -> w
+    };
+    std::vector<Use> uses;
+    for (size_t t = 0; t < tri_.size(); ++t)
+      for (int q = 0; q < 3; ++q) {
+        const int32_t a = tri_[t][size_t(q)], b = tri_[t][size_t((q + 1) % 3)];
+        uses.push_back({std::min(a, b), std::max(a, b), int32_t(t), a < b});
+      }
+    std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return std::tie(x.u, x.w, x.t) < std::tie(y.u, y.w, y.t); });
+    sectors_ = UnionFind(6 * tri_.size());
+    std::vector<Use> ring;
+    for (size_t i = 0, j = 0; i < uses.size(); i = j) {
+      for (j = i; j < uses.size() && uses[j].u == uses[i].u && uses[j].w == uses[i].w; ++j) {}
+      ring.assign(uses.begin() + std::ptrdiff_t(i), uses.begin() + std::ptrdiff_t(j));
+      const int32_t u = ring[0].u, w = ring[0].w;
+      if (ring.size() > 2) sort_round_edge(u, w, ring);
+      for (size_t k = 0; k < ring.size(); ++k) {
+        const Use& cur = ring[k];
+        const Use& next = ring[(k + 1) % ring.size()];
+        // The wedge after `cur` (turning about u -> w) faces cur's normal side if it runs
+        // u -> w, and next's normal side if next runs w -> u.
+        const int32_t after = 2 * cur.t + (cur.forward ? 0 : 1), before = 2 * next.t + (next.forward ? 1 : 0);
+        const bool out_a = on_surface(after) && after % 2 == 0, out_b = on_surface(before) && before % 2 == 0;
+        if (out_a || out_b) {
+          if (out_a != out_b)
+            refuse(sheets_[sheet_of(out_a ? before : after)],
+                   fmt::format("at {} it leaves the solid without crossing its surface (it grazes it): move it inside "
+                               "or across",
+                               at(0.5 * (at_point(u) + at_point(w)))));
+          continue;
+        }
+        for (int32_t v : {u, w}) sectors_.unite(corner(after, v), corner(before, v));
+      }
+    }
+  }
+
+  // `ring`'s triangles (more than two on the edge u -> w) in turn about it, from the first's:
+  // exact orientations of their third points, half turn by half turn.
+  template <class Use>
+  void sort_round_edge(int32_t u, int32_t w, std::vector<Use>& ring) const {
+    const auto pu = point(at_point(u)), pw = point(at_point(w));
+    auto third = [&](const Use& x) {
+      const auto& t = tri_[size_t(x.t)];
+      return t[0] != u && t[0] != w ? t[0] : t[1] != u && t[1] != w ? t[1] : t[2];
+    };
+    const Vec3 axis = at_point(w) - at_point(u);
+    auto across = [&](int32_t x) {  // the third point's offset square to the edge
+      const Vec3 d = at_point(x) - at_point(u);
+      return d - (dot(d, axis) / dot(axis, axis)) * axis;
+    };
+    const int32_t x0 = third(ring[0]);
+    auto half = [&](int32_t x) {
+      const auto o = CGAL::orientation(pu, pw, point(at_point(x0)), point(at_point(x)));
+      return o == CGAL::POSITIVE ? 0 : o == CGAL::NEGATIVE ? 1 : dot(across(x), across(x0)) > 0 ? 0 : 1;
+    };
+    auto before = [&](const Use& a, const Use& b) {
+      const int32_t xa = third(a), xb = third(b);
+      const int ha = half(xa), hb = half(xb);
+      if (ha != hb) return ha < hb;
+      return CGAL::orientation(pu, pw, point(at_point(xa)), point(at_point(xb))) == CGAL::POSITIVE;
+    };
+    std::sort(ring.begin(), ring.end(), before);
+    for (size_t k = 0; k < ring.size(); ++k) {
+      const Use& a = ring[k];
+      const Use& b = ring[(k + 1) % ring.size()];
+      if (a.t != b.t && !before(a, b) && !before(b, a) && dot(across(third(a)), across(third(b))) > 0) {
+        const int32_t side = 2 * (on_surface(2 * a.t) ? b.t : a.t);
+        refuse(sheets_[sheet_of(on_surface(side) ? 2 * b.t : side)],
+               fmt::format("near {} it lies on the solid's surface or on another crack: a crack must cross them",
+                           at(0.5 * (at_point(u) + at_point(w)))));
+      }
+    }
+  }
+
+  // A copy per sector: a surface vertex keeps its id for the sector holding the first sheet's
+  // side a (the first sheet side in the sheets' order), the others new ids in that order; a
+  // sheet's vertex off the surface a new id per sector, sheet by sheet, side a first.
+  void assign_copies() {
+    std::vector<int32_t> copy(6 * tri_.size(), -1);  // per sector root
+    auto new_copy = [&](int32_t root, int32_t v) {
+      copy[size_t(root)] = int32_t(s_.vertices.size());
+      s_.vertices.push_back(at_point(v));
+    };
+    const size_t ns = s_.triangles.size(), nv = s_.vertices.size();
+    struct AtSurface {
+      int32_t v;
+      int64_t rank;  // sheet sides in order, then the surface's
+      int32_t root;
+    };
+    std::vector<AtSurface> at_surface;
+    for (size_t t = 0; t < tri_.size(); ++t)
+      for (int side = t < ns ? 1 : 0; side < 2; ++side)
+        for (int q = 0; q < 3; ++q)
+          if (const int32_t v = tri_[t][size_t(q)]; size_t(v) < nv) {
+            const int32_t sd = int32_t(2 * t) + side;
+            at_surface.push_back({v, t < ns ? int64_t(2 * tri_.size()) + sd : sd, sectors_.find(3 * sd + q)});
+          }
+    std::sort(at_surface.begin(), at_surface.end(),
+              [](const AtSurface& x, const AtSurface& y) { return std::tie(x.v, x.rank) < std::tie(y.v, y.rank); });
+    for (size_t i = 0; i < at_surface.size(); ++i) {
+      const AtSurface& x = at_surface[i];
+      if (copy[size_t(x.root)] >= 0) continue;
+      if (i == 0 || at_surface[i - 1].v != x.v) copy[size_t(x.root)] = x.v;
+      else new_copy(x.root, x.v);
+    }
+    for (size_t k = 0; k < sheets_.size(); ++k) {
+      const TriangleSurface& S = sheets_[k].surface;
+      std::vector<std::vector<std::pair<int32_t, int>>> corners_at(S.vertices.size());  // (triangle, corner)
+      for (size_t t = 0; t < S.triangles.size(); ++t)
+        for (int q = 0; q < 3; ++q) corners_at[size_t(S.triangles[t][size_t(q)])].push_back({int32_t(t), q});
+      SheetCopies& out = sheet_copies.emplace_back(S.triangles.size());
+      for (size_t v = 0; v < S.vertices.size(); ++v)
+        for (int side = 0; side < 2; ++side)
+          for (const auto& [t, q] : corners_at[v]) {
+            const int32_t sd = int32_t(2 * (sheet_first_[k] + size_t(t))) + side;
+            const int32_t root = sectors_.find(3 * sd + q);
+            if (copy[size_t(root)] < 0) new_copy(root, sheet_global_[k][v]);
+            out[size_t(t)][size_t(side)][size_t(q)] = copy[size_t(root)];
+          }
+    }
+    for (size_t t = 0; t < ns; ++t)
+      for (int q = 0; q < 3; ++q) s_.triangles[t][size_t(q)] = copy[size_t(sectors_.find(3 * int32_t(2 * t + 1) + q))];
+  }
+
+  TriangleSurface& s_;
+  const std::vector<CrackSheet>& sheets_;
+  std::vector<Vec3> point_;
+  std::vector<std::array<int32_t, 3>> tri_;
+  std::vector<size_t> sheet_first_;                 // each sheet's first triangle in tri_
+  std::vector<std::vector<int32_t>> sheet_global_;  // each sheet's vertices' ids
+  UnionFind sectors_{0};
+};
 
 }  // namespace
 
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r) {
   if (solid.regions)
     fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
-  for (const CrackSheet& c : sheets)
-    if (!c.on_sheets.empty())
-      refuse(c, "it crosses another crack: crossing cracks are not supported yet (give them one at a time)");
   auto set = std::make_shared<CrackSet>();
   set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
   set->skirt_r = set->fronts ? r : 0;
@@ -265,16 +350,21 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
   // the front, so the skirt's rim passes through none of them. `skirt` marks each cut sheet's
   // skirt triangles.
   std::vector<CrackSheet> cut = sheets;
-  std::vector<std::vector<uint8_t>> skirt(sheets.size());
+  std::vector<std::vector<uint8_t>> skirt(sheets.size()), skirt_given_of(sheets.size());
   for (size_t k = 0; k < sheets.size(); ++k) {
     if (set->skirt_r > 0 && !sheets[k].front.empty()) {
       std::vector<uint8_t> skirt_given;
       const TriangleSurface plus = with_skirt(sheets[k].given, solid, 2 * r, skirt_given);
       cut[k] = crack_from_surface(plus, sheets[k].name, solid.surface);
-      for (int32_t t : parent_triangles(plus, cut[k].surface)) skirt[k].push_back(skirt_given[size_t(t)]);
-    } else {
-      skirt[k].assign(cut[k].surface.triangles.size(), 0);
+      skirt_given_of[k] = std::move(skirt_given);
     }
+  }
+  // Skirts cross other sheets where their sheets' fronts come near them: conformed again.
+  if (set->skirt_r > 0 && sheets.size() > 1) conform_crack_sheets(cut, solid.surface);
+  for (size_t k = 0; k < sheets.size(); ++k) {
+    if (skirt_given_of[k].empty()) skirt[k].assign(cut[k].surface.triangles.size(), 0);
+    else
+      for (int32_t t : parent_triangles(cut[k].given, cut[k].surface)) skirt[k].push_back(skirt_given_of[k][size_t(t)]);
   }
   Domain d;
   d.description = solid.description;
@@ -298,35 +388,11 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
     d.triangle_plane.push_back(solid.triangle_plane[size_t(parent[t])]);
     s.triangle_patch.push_back(patched ? solid.surface.triangle_patch[size_t(parent[t])] : 0);
   }
-  std::map<Key, int32_t> cut_vertex;
-  for (size_t v = 0; v < s.vertices.size(); ++v) cut_vertex.emplace(key_of(s.vertices[v]), int32_t(v));
-  const std::map<int32_t, int32_t> side_b = cut_along_lines(s, cut, cut_vertex);
+  const std::vector<CutOpen::SheetCopies> copies = CutOpen(s, cut).sheet_copies;
 
   for (size_t k = 0; k < cut.size(); ++k) {
     const CrackSheet& c = cut[k];
     const TriangleSurface& S = c.surface;
-    // Each sheet vertex on copy a and copy b: a line vertex is the surface's (doubled for b),
-    // a front vertex one new vertex for both, any other two new ones.
-    std::vector<uint8_t> on_front(S.vertices.size(), 0);
-    for (const auto& e : c.front) on_front[size_t(e[0])] = on_front[size_t(e[1])] = 1;
-    std::vector<uint8_t> on_line(S.vertices.size(), 0);
-    for (const auto& e : c.on_boundary) on_line[size_t(e[0])] = on_line[size_t(e[1])] = 1;
-    std::vector<std::array<int32_t, 2>> copy(S.vertices.size());
-    for (size_t v = 0; v < S.vertices.size(); ++v) {
-      if (on_line[v]) {
-        const int32_t w = cut_vertex.at(key_of(S.vertices[v]));
-        copy[v] = {w, side_b.at(w)};
-        continue;
-      }
-      copy[v][0] = int32_t(s.vertices.size());
-      s.vertices.push_back(S.vertices[v]);
-      if (on_front[v]) {
-        copy[v][1] = copy[v][0];
-      } else {
-        copy[v][1] = int32_t(s.vertices.size());
-        s.vertices.push_back(S.vertices[v]);
-      }
-    }
     const int32_t patch_a = int32_t(s.patch_names.size());
     s.patch_names.push_back(fmt::format("crack_{}_a", c.name));
     s.patch_names.push_back(fmt::format("crack_{}_b", c.name));
@@ -348,8 +414,7 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
       if (skirt_facet[size_t(f)]) set->extension_planes.push_back({first + f, first + n + f});
     for (int side = 0; side < 2; ++side)
       for (size_t t = 0; t < S.triangles.size(); ++t) {
-        const auto& T = S.triangles[t];
-        const int32_t a = copy[size_t(T[0])][side], b = copy[size_t(T[1])][side], e = copy[size_t(T[2])][side];
+        const auto [a, b, e] = copies[k][t][size_t(side)];
         s.triangles.push_back(side == 0 ? std::array<int32_t, 3>{a, e, b} : std::array<int32_t, 3>{a, b, e});
         d.triangle_plane.push_back(first + side * n + facet[t]);
         s.triangle_patch.push_back(skirt[k][t] ? patch_a + 2 : patch_a + side);
@@ -373,7 +438,7 @@ Domain load_cracks(const Domain& solid, const std::vector<std::string>& paths, c
                                            "patches by that name): rename one of the files",
                                            sheets.back().name));
   }
-  conform_crack_sheets(sheets);
+  conform_crack_sheets(sheets, solid.surface);
   return cut_along_cracks(solid, std::move(sheets));
 }
 

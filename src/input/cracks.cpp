@@ -165,24 +165,23 @@ EdgeTriangles edge_triangles(const TriangleSurface& s) {
   return edges;
 }
 
-CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid) {
-  CrackSheet crack;
-  crack.name = name;
-  TriangleSurface s = sheet;
-  check_and_orient(s, name);
-  crack.input_area = area_of(s);
-  crack.given = s;
+namespace {
 
-  // The part inside the solid: CGAL clips the open sheet by the closed surface (exact), keeping
-  // what lies on the surface too, which is then refused below.
-  ExactMesh cut = to_cgal_mesh<ExactMesh>(s);
+// `crack`'s part inside the solid, from its sheet as an exact mesh (the given sheet, or that
+// sheet corefined with others): CGAL clips the open sheet by the closed surface (exact), keeping
+// what lies on the surface too, which is then refused. Sets surface, area, clipped_at and the
+// free edges.
+void clip_to_solid(CrackSheet& crack, ExactMesh cut, const TriangleSurface& solid) {
+  const std::string& name = crack.name;
+  const TriangleSurface& s = crack.given;
   ExactMesh clipper = to_cgal_mesh<ExactMesh>(solid);
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
   crack.surface = from_exact_mesh(cut);
   crack.area = area_of(crack.surface);
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
-                          at(sheet.vertices.empty() ? Vec3{} : sheet.vertices[0])));
+                          at(s.vertices.empty() ? Vec3{} : s.vertices[0])));
+  crack.clipped_at = {NAN, NAN, NAN};
   if (crack.area < crack.input_area * (1 - 1e-12)) {  // a vertex of the sheet the clip did not keep
     std::vector<std::array<double, 3>> kept;
     for (Vec3 q : crack.surface.vertices) kept.push_back({q.x, q.y, q.z});
@@ -214,6 +213,18 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
                             at(centroid)));
   }
   sort_free_edges(crack, [&](Vec3 a, Vec3 c) { return on_solid(a) && on_solid(c) && on_solid(0.5 * (a + c)); });
+}
+
+}  // namespace
+
+CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid) {
+  CrackSheet crack;
+  crack.name = name;
+  TriangleSurface s = sheet;
+  check_and_orient(s, name);
+  crack.input_area = area_of(s);
+  crack.given = s;
+  clip_to_solid(crack, to_cgal_mesh<ExactMesh>(s), solid);
   return crack;
 }
 
@@ -229,11 +240,15 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
   return crack_from_surface(sheet, std::filesystem::path(path).stem().string(), solid);
 }
 
-void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
+void conform_crack_sheets(std::vector<CrackSheet>& sheets, const TriangleSurface& solid) {
   const size_t n = sheets.size();
   if (n < 2) return;
+  // The sheets as given are corefined (exact) and clipped again: a point where two sheets cross
+  // the solid's surface is then the same exact point as on the surface corefined with both
+  // (cracked_domain.cpp), rounded alike.
   std::vector<ExactMesh> mesh;
-  for (const CrackSheet& c : sheets) mesh.push_back(to_cgal_mesh<ExactMesh>(c.surface));
+  std::vector<double> area_before;
+  for (const CrackSheet& c : sheets) mesh.push_back(to_cgal_mesh<ExactMesh>(c.given)), area_before.push_back(c.area);
   std::vector<uint8_t> changed(n, 0);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j) {
@@ -255,25 +270,8 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
   };
   std::vector<std::map<PointPair, std::array<int32_t, 2>>> edges(n);
   for (size_t i = 0; i < n; ++i) {
-    if (changed[i]) {
-      // The lines on the boundary keep their meaning (their edges may have been split); every
-      // other free edge is front, as before.
-      const TriangleSurface before = sheets[i].surface;
-      std::vector<std::array<Vec3, 2>> boundary;
-      for (const auto& e : sheets[i].on_boundary)
-        boundary.push_back({before.vertices[size_t(e[0])], before.vertices[size_t(e[1])]});
-      sheets[i].surface = from_exact_mesh(mesh[i]);
-      auto on_segment = [](Vec3 p, const std::array<Vec3, 2>& seg) {
-        const Vec3 d = seg[1] - seg[0];
-        const double t = dot(p - seg[0], d) / dot(d, d);
-        return t >= -1e-12 && t <= 1 + 1e-12 && norm2(seg[0] + t * d - p) <= 1e-24 * dot(d, d);
-      };
-      sort_free_edges(sheets[i], [&](Vec3 a, Vec3 b) {
-        for (const auto& seg : boundary)
-          if (on_segment(0.5 * (a + b), seg)) return true;
-        return false;
-      });
-    }
+    sheets[i].on_sheets.clear();
+    if (changed[i]) clip_to_solid(sheets[i], std::move(mesh[i]), solid);
     const TriangleSurface& S = sheets[i].surface;
     for (const auto& [e, tris] : edge_triangles(S))
       edges[i][key(S.vertices[size_t(e.first)], S.vertices[size_t(e.second)])] = {e.first, e.second};
@@ -300,12 +298,13 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets) {
              fmt::format("cracks {} and {} overlap in a plane near ({:.6g}, {:.6g}, {:.6g}): give the overlap once",
                          sheets[it->second].name, sheets[i].name, corners[0][0], corners[0][1], corners[0][2]));
     }
-  for (CrackSheet& c : sheets) {
+  for (size_t i = 0; i < n; ++i) {
+    CrackSheet& c = sheets[i];
     std::sort(c.on_sheets.begin(), c.on_sheets.end());
     c.on_sheets.erase(std::unique(c.on_sheets.begin(), c.on_sheets.end()), c.on_sheets.end());
-    const double area = area_of(c.surface);
-    if (std::abs(area - c.area) > 1e-9 * c.area)
-      fail(ErrorKind::Internal, fmt::format("crack {}: corefinement changed its area from {} to {}", c.name, c.area, area));
+    if (std::abs(c.area - area_before[i]) > 1e-9 * area_before[i])
+      fail(ErrorKind::Internal,
+           fmt::format("crack {}: corefinement changed its area from {} to {}", c.name, area_before[i], c.area));
   }
 }
 

@@ -47,10 +47,11 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
 // The same for a sheet given as triangles (`name` for messages).
 CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid);
 
-// Sheets that cross (a branching crack) made to share the curve where they cross: each is
-// corefined with every other it meets (CGAL, exact constructions; the new points rounded to
-// doubles alike in both), and the curve's edges listed in both sheets' `on_sheets`. Their areas
-// do not change. Sheets that overlap in a plane are refused (InvalidInput, naming both).
-void conform_crack_sheets(std::vector<CrackSheet>& sheets);
+// Sheets that cross (a branching crack) made to share the curve where they cross: the sheets as
+// given are corefined with every other they meet (CGAL, exact constructions) and clipped to
+// `solid` again, the new points rounded to doubles alike in both, and the curve's edges listed
+// in both sheets' `on_sheets`. Their areas do not change. Sheets that overlap in a plane are
+// refused (InvalidInput, naming both).
+void conform_crack_sheets(std::vector<CrackSheet>& sheets, const TriangleSurface& solid);
 
 }  // namespace froth

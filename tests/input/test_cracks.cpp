@@ -134,7 +134,7 @@ TEST(Cracks, CrossingSheetsShareTheirCrossing) {
   for (Vec3& p : upright.vertices) p = {0.5, p.x, p.y};  // x = 0.5, y and z from 0.3 to 0.7
   sheets.push_back(crack_from_surface(upright, "upright", unit_box()));
   const double flat_area = sheets[0].area, upright_area = sheets[1].area;
-  conform_crack_sheets(sheets);
+  conform_crack_sheets(sheets, unit_box());
   EXPECT_NEAR(sheets[0].area, flat_area, 1e-15);
   EXPECT_NEAR(sheets[1].area, upright_area, 1e-15);
   for (const CrackSheet& c : sheets) {
@@ -153,7 +153,7 @@ TEST(Cracks, OverlappingSheetsAreRefused) {
   std::vector<CrackSheet> sheets{crack_from_surface(square_sheet(0.2, 0.6, 0.2, 0.6, 0.5), "one", unit_box()),
                                  crack_from_surface(square_sheet(0.4, 0.8, 0.4, 0.8, 0.5), "two", unit_box())};
   try {
-    conform_crack_sheets(sheets);
+    conform_crack_sheets(sheets, unit_box());
     ADD_FAILURE() << "overlapping sheets were accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("overlap in a plane"), std::string::npos) << e.what();

@@ -21,7 +21,7 @@ namespace {
 Domain cracked_box(const TriangleSurface& sheet, const std::string& name) {
   const Domain box = load_domain("box:0,0,0,1,1,1");
   std::vector<CrackSheet> sheets{crack_from_surface(sheet, name, box.surface)};
-  conform_crack_sheets(sheets);
+  conform_crack_sheets(sheets, box.surface);
   return cut_along_cracks(box, std::move(sheets));
 }
 

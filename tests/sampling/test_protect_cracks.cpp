@@ -77,7 +77,7 @@ TEST(ProtectCracks, CrossingSheetsAreCoveredAndTheirCrossingIsACurve) {
   TriangleSurface upright = square_sheet(0.3, 0.7, 0.3, 0.7, 0, 2);
   for (Vec3& p : upright.vertices) p = {0.5, p.x, p.y};
   sheets.push_back(crack_from_surface(upright, "upright", box));
-  conform_crack_sheets(sheets);
+  conform_crack_sheets(sheets, box);
   check_protection(sheets, 0.08, 3);
   // The crossing (x = 0.5, z = 0.5) holds curve seeds.
   InterfaceProtectionStats stats;
