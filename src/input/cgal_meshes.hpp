@@ -18,6 +18,11 @@ using InexactKernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using ExactMesh = CGAL::Surface_mesh<ExactKernel::Point_3>;
 using InexactMesh = CGAL::Surface_mesh<InexactKernel::Point_3>;
 
+// An exact mesh where a header cannot name CGAL's types (input/cracks.hpp).
+struct ExactSurface {
+  ExactMesh mesh;
+};
+
 // Vertex k and face t of the mesh are vertex k and triangle t of the surface.
 template <class M>
 M to_cgal_mesh(const TriangleSurface& s) {

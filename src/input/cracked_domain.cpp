@@ -30,17 +30,20 @@ InexactKernel::Point_3 point(Vec3 p) { return {p.x, p.y, p.z}; }
 
 // The solid's surface corefined with every sheet that meets it (exact): its lines on the
 // boundary become edges of the surface, at the same rounded points as the clipped sheets' (the
-// same exact intersections, rounded alike). The solid's vertices keep their numbers.
-TriangleSurface corefined_surface(const Domain& solid, const std::vector<CrackSheet>& sheets) {
-  ExactMesh surface = to_cgal_mesh<ExactMesh>(solid.surface);
+// same exact intersections, rounded alike). The solid's vertices keep their numbers. A sheet
+// after the first is clipped again to the surface as the sheets before it left it, whose new
+// edges cross its line at more points.
+TriangleSurface corefined_surface(const Domain& solid, std::vector<CrackSheet>& sheets) {
+  ExactSurface surface{to_cgal_mesh<ExactMesh>(solid.surface)};
   bool any = false;
-  for (const CrackSheet& c : sheets) {
+  for (CrackSheet& c : sheets) {
     if (c.on_boundary.empty()) continue;
-    ExactMesh sheet = to_cgal_mesh<ExactMesh>(c.given);
-    PMP::corefine(sheet, surface);
+    if (any) clip_crack_again(c, surface, solid.surface);
+    ExactMesh sheet = c.conformed ? c.conformed->mesh : to_cgal_mesh<ExactMesh>(c.given);
+    PMP::corefine(sheet, surface.mesh);
     any = true;
   }
-  return any ? from_exact_mesh(surface) : solid.surface;
+  return any ? from_exact_mesh(surface.mesh) : solid.surface;
 }
 
 // For each triangle of `cut` (a surface split from `whole`, as a corefinement or a clip splits
@@ -342,6 +345,12 @@ class CutOpen {
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r) {
   if (solid.regions)
     fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
+  for (const CrackSheet& c : sheets)
+    if (!c.on_sheets.empty() && !c.front.empty())
+      fail(ErrorKind::Usage, fmt::format("crack {}: it crosses another crack and has a front inside the solid: "
+                                         "crossing cracks without a front inside the solid (through cracks) are "
+                                         "supported, these not yet",
+                                         c.name));
   auto set = std::make_shared<CrackSet>();
   set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
   set->skirt_r = set->fronts ? r : 0;
@@ -361,11 +370,6 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
   }
   // Skirts cross other sheets where their sheets' fronts come near them: conformed again.
   if (set->skirt_r > 0 && sheets.size() > 1) conform_crack_sheets(cut, solid.surface);
-  for (size_t k = 0; k < sheets.size(); ++k) {
-    if (skirt_given_of[k].empty()) skirt[k].assign(cut[k].surface.triangles.size(), 0);
-    else
-      for (int32_t t : parent_triangles(cut[k].given, cut[k].surface)) skirt[k].push_back(skirt_given_of[k][size_t(t)]);
-  }
   Domain d;
   d.description = solid.description;
   d.features = solid.features;
@@ -379,6 +383,12 @@ Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, dou
 
   TriangleSurface& s = d.surface;
   s = corefined_surface(solid, cut);
+  // (Marked once the sheets are clipped for the last time.)
+  for (size_t k = 0; k < sheets.size(); ++k) {
+    if (skirt_given_of[k].empty()) skirt[k].assign(cut[k].surface.triangles.size(), 0);
+    else
+      for (int32_t t : parent_triangles(cut[k].given, cut[k].surface)) skirt[k].push_back(skirt_given_of[k][size_t(t)]);
+  }
   const std::vector<int32_t> parent = parent_triangles(solid.surface, s);
   s.patch_names = solid.surface.patch_names;
   s.triangle_patch.clear();

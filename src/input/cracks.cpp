@@ -171,10 +171,9 @@ namespace {
 // sheet corefined with others): CGAL clips the open sheet by the closed surface (exact), keeping
 // what lies on the surface too, which is then refused. Sets surface, area, clipped_at and the
 // free edges.
-void clip_to_solid(CrackSheet& crack, ExactMesh cut, const TriangleSurface& solid) {
+void clip_to_solid(CrackSheet& crack, ExactMesh cut, ExactMesh clipper, const TriangleSurface& solid) {
   const std::string& name = crack.name;
   const TriangleSurface& s = crack.given;
-  ExactMesh clipper = to_cgal_mesh<ExactMesh>(solid);
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
   crack.surface = from_exact_mesh(cut);
   crack.area = area_of(crack.surface);
@@ -224,8 +223,31 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   check_and_orient(s, name);
   crack.input_area = area_of(s);
   crack.given = s;
-  clip_to_solid(crack, to_cgal_mesh<ExactMesh>(s), solid);
+  clip_to_solid(crack, to_cgal_mesh<ExactMesh>(s), to_cgal_mesh<ExactMesh>(solid), solid);
   return crack;
+}
+
+void clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid) {
+  using Point = std::array<double, 3>;
+  std::vector<std::array<Point, 2>> crossings;
+  for (const auto& e : crack.on_sheets) {
+    const Vec3 a = crack.surface.vertices[size_t(e[0])], b = crack.surface.vertices[size_t(e[1])];
+    crossings.push_back({Point{a.x, a.y, a.z}, Point{b.x, b.y, b.z}});
+  }
+  clip_to_solid(crack, crack.conformed ? crack.conformed->mesh : to_cgal_mesh<ExactMesh>(crack.given), surface.mesh, solid);
+  std::map<Point, int32_t> id;
+  for (size_t v = 0; v < crack.surface.vertices.size(); ++v) {
+    const Vec3 p = crack.surface.vertices[v];
+    id.emplace(Point{p.x, p.y, p.z}, int32_t(v));
+  }
+  crack.on_sheets.clear();
+  for (const auto& [a, b] : crossings) {
+    const auto ia = id.find(a), ib = id.find(b);
+    if (ia == id.end() || ib == id.end())
+      fail(ErrorKind::Internal, fmt::format("crack {}: clipped again, it lost a point of its crossing at ({}, {}, {})",
+                                            crack.name, a[0], a[1], a[2]));
+    crack.on_sheets.push_back({ia->second, ib->second});
+  }
 }
 
 CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options, Vec3 origin) {
@@ -271,7 +293,10 @@ void conform_crack_sheets(std::vector<CrackSheet>& sheets, const TriangleSurface
   std::vector<std::map<PointPair, std::array<int32_t, 2>>> edges(n);
   for (size_t i = 0; i < n; ++i) {
     sheets[i].on_sheets.clear();
-    if (changed[i]) clip_to_solid(sheets[i], std::move(mesh[i]), solid);
+    if (changed[i]) {
+      sheets[i].conformed = std::make_shared<const ExactSurface>(ExactSurface{mesh[i]});
+      clip_to_solid(sheets[i], std::move(mesh[i]), to_cgal_mesh<ExactMesh>(solid), solid);
+    }
     const TriangleSurface& S = sheets[i].surface;
     for (const auto& [e, tris] : edge_triangles(S))
       edges[i][key(S.vertices[size_t(e.first)], S.vertices[size_t(e.second)])] = {e.first, e.second};

@@ -7,12 +7,15 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "froth/domain.hpp"
 
 namespace froth {
+
+struct ExactSurface;  // an exact CGAL mesh (input/cgal_meshes.hpp)
 
 struct CrackSheet {
   std::string name;         // the file's stem
@@ -28,6 +31,10 @@ struct CrackSheet {
   std::vector<std::array<int32_t, 2>> on_sheets;
   double front_length = 0;
   Vec3 clipped_at{NAN, NAN, NAN};  // a point of the part clipped away, if any
+  // The sheet as given corefined exactly with those it crosses (conform_crack_sheets; null if
+  // none): the solid's surface is corefined with it, so that its lines on the surface have the
+  // clipped sheet's points.
+  std::shared_ptr<const ExactSurface> conformed;
 };
 
 // Each edge of a sheet, as (smaller vertex, larger), with the triangles that use it.
@@ -46,6 +53,12 @@ CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, con
 
 // The same for a sheet given as triangles (`name` for messages).
 CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& name, const TriangleSurface& solid);
+
+// `crack` clipped again from its sheet (as conformed), to `surface`: the solid's surface after
+// other sheets were cut into it, whose edges cross this sheet's line on it at more points (the
+// cut needs the sheet's edges along the line to be the surface's). `solid` is the same surface
+// as given, to find the lines.
+void clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid);
 
 // Sheets that cross (a branching crack) made to share the curve where they cross: the sheets as
 // given are corefined with every other they meet (CGAL, exact constructions) and clipped to

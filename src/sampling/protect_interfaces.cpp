@@ -324,8 +324,8 @@ ProtectionSeeds protect_interfaces(const RegionSet& set, double r, uint64_t seed
 namespace {
 
 // The crack sheets' seeds (protect_cracks), clear of the boundary's, appended to `p`. A seed's
-// side a is its inward direction; where that runs along the solid's surface (a seed on a line
-// where the sheet meets it), it is tipped into the solid by the surface's inward normal there.
+// side a is its inward direction; where the seed is on the solid's surface (on a line where the
+// sheet meets it), it is tipped into the solid by the surface's inward normal there.
 void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSeeds& p, SamplingStats& stats,
                      const std::function<double(Vec3)>& h, double lipschitz) {
   InterfaceProtectionStats cs;
@@ -335,7 +335,6 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
   std::vector<int32_t> tris;
   for (size_t k = 0; k < q.points.size(); ++k) {
     const Vec3 x = q.points[k];
-    if (domain.locator->side(x + 1e-6 * r * q.inward[k]) > 0) continue;
     const Vec3 reach{near, near, near};
     domain.locator->triangles_near(x - reach, x + reach, tris);
     Vec3 in{};

@@ -1,8 +1,8 @@
 """Cracks (issue 38), read back by readers that are not froth: a through crack in the unit box and
 across plate_holes.STL (a real part, the crack's line on its surface running round its holes), a
 closed sheet (a lens), a penny (a front all round inside the solid), an edge crack (a front from
-face to face) and a curved crack in the box, at r = 1/12 and 1/20 of the solid's size and seeds 1 and 2. Checked on
-each mesh (VTK):
+face to face), a curved crack and two crossing through cracks in the box, at r = 1/12 and 1/20 of
+the solid's size and seeds 1 and 2. Checked on each mesh (VTK), for each sheet:
 - the report's crack faces on each side sum to the sheet's area inside the solid (1e-9), and so do
   the --boundary file's faces on patches crack_NAME_a and crack_NAME_b;
 - no face of two cells lies on the sheet; the faces of the two sides share points only on the front;
@@ -124,10 +124,17 @@ def check_welded_alike(label, solid, sheet, name, r, seed, weld, work):
 
 
 def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_front, work, extra=()):
+    check_cracks(label, solid, [(sheet, name, on_sheet, sheet_normal, on_front)], r, seed, work, extra)
+
+
+def check_cracks(label, solid, sheets, r, seed, work, extra=()):
+    """Each sheet of `sheets` (path, name, on_sheet, sheet_normal, on_front) cut into the mesh of
+    `solid` as it must be, where they cross too."""
     out = os.path.join(work, f"{label}_{seed}.vtu")
     boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
     report = os.path.join(work, f"{label}_{seed}.json")
-    p = froth("mesh", solid, "--crack", sheet, "-r", repr(r), "--seed", str(seed), "-o", out, "--boundary", boundary,
+    cracks = [a for sheet in sheets for a in ("--crack", sheet[0])]
+    p = froth("mesh", solid, *cracks, "-r", repr(r), "--seed", str(seed), "-o", out, "--boundary", boundary,
               "--report", report, *extra)
     check(p.returncode == 0, f"{label} seed {seed}: exit {p.returncode}: {p.stderr}")
     if p.returncode != 0:
@@ -136,44 +143,47 @@ def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_fr
     run = json.load(open(report))
     if "--grade" in extra:
         check(run["sizing"]["graded"], f"{label} seed {seed}: not graded ({run['sizing']})")
-    crack = run["cracks"][0]
-    area = crack["area"]
     fronts = {"penny": 2 * (0.5 + 0.4), "edge": 0.45 * 2 + 0.6, "box_through": 0, "plate_through": 0, "lens": 0,
-              "plate_penny": 2 * (80 + 70)}
-    if name in fronts:
-        check(abs(crack["front_length"] - fronts[name]) <= 1e-9, f"{label}: front length {crack['front_length']}")
-    check(crack["faces_on_front"] == 0, f"{label} seed {seed}: {crack['faces_on_front']} crack faces on the front alone")
-    for side in ("a", "b"):
-        check(abs(crack[f"area_from_{side}"] - area) <= 1e-9 * area,
-              f"{label} seed {seed}: report's side {side} {crack[f'area_from_{side}']} against {area}")
+              "plate_penny": 2 * (80 + 70), "box_upright": 0, "penny_upright": 2 * (0.5 + 0.4)}
+    for k, (_, name, on_sheet, _, _) in enumerate(sheets):
+        crack = run["cracks"][k]
+        check(crack["name"] == name, f"{label}: report's crack {k} is {crack['name']}, not {name}")
+        area = crack["area"]
+        if name in fronts:
+            check(abs(crack["front_length"] - fronts[name]) <= 1e-9, f"{label}: {name}'s front length {crack['front_length']}")
+        check(crack["faces_on_front"] == 0, f"{label} seed {seed}: {crack['faces_on_front']} crack faces on the front alone")
+        for side in ("a", "b"):
+            check(abs(crack[f"area_from_{side}"] - area) <= 1e-9 * area,
+                  f"{label} seed {seed}: report's {name} side {side} {crack[f'area_from_{side}']} against {area}")
+        # The boundary file's crack patches.
+        faces = side_faces(boundary, name, label)
+        for side in "ab":
+            total = 0.0
+            for c, poly in enumerate(faces[side]):
+                check(all(on_sheet(x) for x in poly), f"{label}: boundary face {c} of crack_{name}_{side} off the sheet")
+                total += polygon_area(poly)
+            check(abs(total - area) <= 1e-9 * area,
+                  f"{label} seed {seed}: boundary file's {name} side {side} {total} against {area}")
+        unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
+        check(unlike == 0, f"{label} seed {seed}: {unlike} crack faces of {name}'s side a unlike side b's (welded apart)")
     check(abs(run["volume"]["cells_sum"] - run["volume"]["domain"]) <= 1e-9 * run["volume"]["domain"],
           f"{label} seed {seed}: volume {run['volume']}")
-    # The boundary file's crack patches.
-    faces = side_faces(boundary, name, label)
-    for side in "ab":
-        total = 0.0
-        for c, poly in enumerate(faces[side]):
-            check(all(on_sheet(x) for x in poly), f"{label}: boundary face {c} of crack_{name}_{side} off the sheet")
-            total += polygon_area(poly)
-        check(abs(total - area) <= 1e-9 * area, f"{label} seed {seed}: boundary file's side {side} {total} against {area}")
-    unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
-    check(unlike == 0, f"{label} seed {seed}: {unlike} crack faces of side a unlike side b's (welded apart)")
-    # The mesh: its field data names the crack; faces on the sheet are in one cell each, and the
-    # two sides share no point.
+    # The mesh: its field data names the cracks; faces on a sheet are in one cell each, and the
+    # two sides of a sheet share no point off its front.
     g = read_vtk(out)
-    cracks = g.GetFieldData().GetAbstractArray("crack_names")
-    check(cracks is not None and [cracks.GetValue(k) for k in range(cracks.GetNumberOfValues())] == [name],
+    names = g.GetFieldData().GetAbstractArray("crack_names")
+    check(names is not None and [names.GetValue(k) for k in range(names.GetNumberOfValues())] == [s[1] for s in sheets],
           f"{label}: field data crack_names")
     gp = vtk_to_numpy(g.GetPoints().GetData())
     seen = {}
     for c in range(g.GetNumberOfCells()):
         for f in face_stream(g, c):
             seen.setdefault(tuple(sorted(f)), []).append((c, f))
-    side_points = [set(), set()]
+    side_points = [[set(), set()] for _ in sheets]
     matched_on = 0
     for key, uses in seen.items():
         poly = gp[list(uses[0][1])]
-        on = all(on_sheet(x) for x in poly) and on_sheet(poly.mean(axis=0))
+        on = [k for k, sheet in enumerate(sheets) if all(sheet[2](x) for x in poly) and sheet[2](poly.mean(axis=0))]
         if not on:
             continue
         if len(uses) > 1:
@@ -182,10 +192,12 @@ def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_fr
         # Its side: its outward normal along the sheet's normal there or against it.
         c, f = uses[0]
         outward = np.sum(np.cross(poly, np.roll(poly, -1, axis=0)), axis=0)
-        side_points[int(np.dot(outward, sheet_normal(poly.mean(axis=0))) > 0)].update(f)
-    check(matched_on == 0, f"{label} seed {seed}: {matched_on} faces of two cells on the sheet")
-    shared = [v for v in side_points[0] & side_points[1] if not on_front(gp[v])]
-    check(len(side_points[0]) > 0 and not shared, f"{label} seed {seed}: {len(shared)} points on both sides off the front")
+        side_points[on[0]][int(np.dot(outward, sheets[on[0]][3](poly.mean(axis=0))) > 0)].update(f)
+    check(matched_on == 0, f"{label} seed {seed}: {matched_on} faces of two cells on a sheet")
+    for k, sheet in enumerate(sheets):
+        shared = [v for v in side_points[k][0] & side_points[k][1] if not sheet[4](gp[v])]
+        check(len(side_points[k][0]) > 0 and not shared,
+              f"{label} seed {seed}: {len(shared)} points on both sides of {sheet[1]} off its front")
     # Every cell has a kernel: none is slit by a front inside it. (Not asked of the plate, thinner
     # than r, nor of the lens, whose material tapers to nothing at its rim: a feature thinner than
     # r that cells wrap around, as in any part.)
@@ -217,6 +229,14 @@ def main():
             for seed in (1, 2):
                 check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
                            sheet_normal, on_front, work)
+    # Crossing sheets (a branching crack): two through cracks crossing along a line from face to
+    # face, which the cut opens four ways (the box falls into four pieces).
+    crossing = [(os.path.join(CRACKS, "box_through.obj"), "box_through", on_sheet_plane((0, 0, 1), 0.5), up, nowhere),
+                (os.path.join(CRACKS, "box_upright.obj"), "box_upright", on_sheet_plane((1, 0, 0), 0.37),
+                 lambda p: (1, 0, 0), nowhere)]
+    for fraction in (12, 20):
+        for seed in (1, 2):
+            check_cracks(f"crossing_{fraction}", box, crossing, 1 / fraction, seed, work)
     # Graded (--grade): the plate is thinner than 2r, so h shrinks in it (to 0.57-0.63 r); the
     # sheets' disks are the interfaces' factors times h. And convex cells (--convex): a cut
     # through a crack face splits its twin across the crack alike. A through crack, and a
