@@ -2,7 +2,7 @@
 """The random-trial campaign: froth run as users draw it, over many parts.
 
   python3 scripts/trials.py N [--seed S] [--froth build/froth] [--work DIR] [--jobs J]
-                              [--cells LO HI] [--check] [--quiet]
+                              [--cells LO HI] [--check] [--quiet] [--crossing]
 
 Each trial draws (part, cell count, seed, --grade, a random crack, --convex or --weld, threads) from a stream
 seeded by S and runs `froth mesh` on it. The parts are the valid test models (tests/data/models, the heater's five
@@ -186,19 +186,24 @@ def crack_sheet(rng, part, path):
     return True
 
 
-def draw(rng, all_parts, lo, hi, work, k):
+def draw(rng, all_parts, lo, hi, work, k, crossing=False):
     part = rng.choice(all_parts)
     cells = int(round(math.exp(rng.uniform(math.log(lo), math.log(hi)))))
     options = ["--cells", str(cells), "--seed", str(rng.getrandbits(32))]
-    # A fifth of the single-solid trials cut along a random crack; a quarter of all graded.
-    if len(part) == 1 and rng.random() < 0.2:
+    # A fifth of the single-solid trials cut along a random crack (a third of those along two); a
+    # quarter of all graded.
+    if len(part) == 1 and (rng.random() < 0.2 or crossing):
         sheet = os.path.join(work, "crack_%d.obj" % k)
         if crack_sheet(rng, part[0], sheet):
             options += ["--crack", sheet]
+            # A third of them along a second crack too, crossing the first where they meet.
+            second = os.path.join(work, "crack_%d_b.obj" % k)
+            if (rng.random() < 1 / 3 or crossing) and crack_sheet(rng, part[0], second):
+                options += ["--crack", second]
     if rng.random() < 0.25:
         options.append("--grade")
     weld = rng.random()
-    if weld < 0.1:
+    if weld < 0.1 and options.count("--crack") < 2:  # (crossing cracks are not split convex yet)
         options.append("--convex")  # (its weld tolerance is 0)
     elif weld < 0.3:
         options += ["--weld", "0"]
@@ -267,12 +272,13 @@ def main():
     ap.add_argument("--check", action="store_true", help="read each mesh back and check its stated guarantees")
     ap.add_argument("--timeout", type=int, default=900)
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--crossing", action="store_true", help="cut every single-solid trial along two random cracks")
     a = ap.parse_args()
     froth = os.path.abspath(a.froth)
     os.makedirs(a.work, exist_ok=True)
     all_parts = parts(a.work)
     rng = random.Random(a.seed)
-    trials = [draw(rng, all_parts, *a.cells, a.work, k) for k in range(a.n)]
+    trials = [draw(rng, all_parts, *a.cells, a.work, k, a.crossing) for k in range(a.n)]
     log = open(os.path.join(a.work, "trials_seed%d.jsonl" % a.seed), "w")
     failed = 0
     check, check_pool = checker(a.jobs) if a.check else (None, None)

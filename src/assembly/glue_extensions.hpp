@@ -13,20 +13,25 @@
 #include <string>
 #include <vector>
 
+#include "common/face_scratch.hpp"
 #include "froth/mesh.hpp"
 
 namespace froth {
 
-// `planes`: the skirts' facet planes as (copy a's, copy b's); `tolerance`: how far apart two
-// copies' points may lie (a rounding error of the cells' size). Returns an error text, or "".
-std::string glue_extensions(PolyMesh& mesh, const std::vector<std::array<int32_t, 2>>& planes, double tolerance);
+// `planes`: the skirts' facet planes as (copy a's, copy b's); `sheet_planes`: per sheet, its
+// copies' facet planes as [begin, middle) for copy a and [middle, end) for copy b (CrackSet,
+// skirts included); `tolerance`: how far apart two copies' points may lie (a rounding error of
+// the cells' size). Where a skirt crosses another sheet, its copies are glued on each side of
+// that sheet apart. Returns an error text, or "".
+std::string glue_extensions(PolyMesh& mesh, const std::vector<std::array<int32_t, 2>>& planes,
+                            const std::vector<std::array<int32_t, 3>>& sheet_planes, double tolerance);
 
-// The two copies of each crack point, for welding to move alike (FaceScratch::point_twin): per
-// point of a face on a sheet's copy a, the point at its place (within `tolerance`) on a face of
-// its copy b, and back; -1 for other points and for the front's, which both copies share.
-// `sheet_planes`: per sheet, its copies' facet planes as [begin, middle) for copy a and
-// [middle, end) for copy b (CrackSet).
-std::vector<int32_t> crack_point_twins(const PolyMesh& mesh, const std::vector<std::array<int32_t, 3>>& sheet_planes,
-                                       double tolerance);
+// The copies of each crack point, for welding to move alike (FaceScratch::point_twins): per
+// point of a face on one side of a sheet, the point at its place (within `tolerance`) on the
+// sheet's other side and on the same side of every other sheet through it (where two sheets
+// cross, a point's four copies are each other's twins across one sheet or the other); none for
+// the front's points, which both sides share. `sheet_planes` as above.
+PointTwins crack_point_twins(const PolyMesh& mesh, const std::vector<std::array<int32_t, 3>>& sheet_planes,
+                             double tolerance);
 
 }  // namespace froth

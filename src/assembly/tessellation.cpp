@@ -453,13 +453,13 @@ PolyMesh build_voronoi_mesh(const Domain& domain, Sample&& sample, double r, Tes
   split_pieces(mesh, split, domain.regions.get(), domain.cracks != nullptr);
   if (merged_degenerate) drop_repeated_vertices(mesh);
   if (domain.cracks) {
-    if (const std::string error = glue_extensions(mesh, domain.cracks->extension_planes, 1e-9 * r); !error.empty())
-      fail(ErrorKind::Internal, error);
     const CrackSet& set = *domain.cracks;
     std::vector<std::array<int32_t, 3>> sheet_planes;
     for (size_t k = 0; k < set.plane_middle.size(); ++k)
       sheet_planes.push_back({set.plane_begin[k], set.plane_middle[k], set.plane_begin[k + 1]});
-    scratch_of(mesh).point_twin = crack_point_twins(mesh, sheet_planes, 1e-9 * r);
+    if (const std::string error = glue_extensions(mesh, set.extension_planes, sheet_planes, 1e-9 * r); !error.empty())
+      fail(ErrorKind::Internal, error);
+    scratch_of(mesh).point_twins = crack_point_twins(mesh, sheet_planes, 1e-9 * r);
   }
   if (times) times->assembly = seconds_since(t0);
   return mesh;

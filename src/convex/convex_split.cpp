@@ -72,7 +72,7 @@ class Splitter {
  public:
   Splitter(PolyMesh& m, const std::vector<Plane>& domain_planes, double r)
       : m_(m), domain_planes_(domain_planes), r_(r), tol_(tol::convex(r)), n0_(m.cell_count()),
-        min_thickness_(1e-9 * r), min_volume_(1e-13 * r * r * r), twin_(std::move(scratch_of(m).point_twin)) {
+        min_thickness_(1e-9 * r), min_volume_(1e-13 * r * r * r), twin_(single_twins(scratch_of(m).point_twins, m.points.size())) {
     if (!twin_.empty()) twin_.resize(m.points.size(), -1);
     double extent = 0;
     for (const Vec3& p : m.points) extent = std::max({extent, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
@@ -630,9 +630,19 @@ class Splitter {
   std::vector<uint32_t> parent_;  // of the cells made here (ids from n0_): the original cell
   std::unordered_map<int32_t, std::vector<int32_t>> children_;
   std::unordered_map<int32_t, std::vector<int32_t>> incident_;  // vertex -> cells through it
-  // A cracked solid's point twins (FaceScratch::point_twin), grown with the cuts' points; empty
-  // without cracks.
+  // A cracked solid's point twins (FaceScratch::point_twins, one each: crossing cracks are not
+  // split convex), grown with the cuts' points; empty without cracks.
   std::vector<int32_t> twin_;
+  static std::vector<int32_t> single_twins(const PointTwins& twins, size_t points) {
+    if (twins.empty()) return {};
+    std::vector<int32_t> one(points, -1);
+    for (size_t v = 0; v < points; ++v) {
+      const auto of = twins.of(int32_t(v));
+      if (of.size() > 1) fail(ErrorKind::Internal, "convex split: a point with twins across two cracks");
+      if (!of.empty()) one[v] = of[0][1];
+    }
+    return one;
+  }
 };
 
 }  // namespace

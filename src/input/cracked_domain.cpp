@@ -345,12 +345,6 @@ class CutOpen {
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r) {
   if (solid.regions)
     fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
-  for (const CrackSheet& c : sheets)
-    if (!c.on_sheets.empty() && !c.front.empty())
-      fail(ErrorKind::Usage, fmt::format("crack {}: it crosses another crack and has a front inside the solid: "
-                                         "crossing cracks without a front inside the solid (through cracks) are "
-                                         "supported, these not yet",
-                                         c.name));
   auto set = std::make_shared<CrackSet>();
   set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
   set->skirt_r = set->fronts ? r : 0;

@@ -167,6 +167,28 @@ EdgeTriangles edge_triangles(const TriangleSurface& s) {
 
 namespace {
 
+// Points that the rounding to doubles made one (two exact points closer than a rounding error,
+// where sheets cross near another's edge) made one vertex, and the triangles left with a repeated
+// vertex (no area) dropped.
+void merge_rounded_alike(TriangleSurface& s) {
+  std::map<std::array<double, 3>, int32_t> first;
+  std::vector<int32_t> id(s.vertices.size());
+  bool any = false;
+  for (size_t v = 0; v < s.vertices.size(); ++v) {
+    const Vec3 p = s.vertices[v];
+    const auto [it, added] = first.try_emplace({p.x, p.y, p.z}, int32_t(v));
+    id[v] = it->second, any |= !added;
+  }
+  if (!any) return;
+  std::vector<std::array<int32_t, 3>> kept;
+  for (auto t : s.triangles) {
+    for (int32_t& v : t) v = id[size_t(v)];
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) kept.push_back(t);
+  }
+  s.triangles = std::move(kept);
+  // (Vertices no triangle uses any more are left: nothing reads them.)
+}
+
 // `crack`'s part inside the solid, from its sheet as an exact mesh (the given sheet, or that
 // sheet corefined with others): CGAL clips the open sheet by the closed surface (exact), keeping
 // what lies on the surface too, which is then refused. Sets surface, area, clipped_at and the
@@ -176,6 +198,7 @@ void clip_to_solid(CrackSheet& crack, ExactMesh cut, ExactMesh clipper, const Tr
   const TriangleSurface& s = crack.given;
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
   crack.surface = from_exact_mesh(cut);
+  merge_rounded_alike(crack.surface);
   crack.area = area_of(crack.surface);
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",

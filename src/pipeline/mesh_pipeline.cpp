@@ -240,7 +240,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
   WeldedCells welded;
   if (!(*opt.weld > 0)) {
     // (--convex cuts by interface planes too, and splits a crack face's twin with it)
-    if (!opt.convex) scratch_of(mesh).face_interface_facet.clear(), scratch_of(mesh).point_twin.clear();
+    if (!opt.convex) scratch_of(mesh).face_interface_facet.clear(), scratch_of(mesh).point_twins.clear();
     return welded;
   }
   stage_starts(opt, "welding");
@@ -255,7 +255,7 @@ WeldedCells weld_stage(PolyMesh& mesh, const MeshOptions& opt, RunReport& run, S
   };
   run.welding = std::make_shared<const WeldStats>(weld_mesh(mesh, *opt.weld, opt.r, measure_before));
   scratch_of(mesh).face_interface_facet.clear();  // their one reader was welding
-  scratch_of(mesh).point_twin.clear();
+  scratch_of(mesh).point_twins.clear();
   run.stages.push_back({"welding", watch.lap(), peak_rss_bytes()});
   return welded;
 }

@@ -12,6 +12,7 @@
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
 #include "froth/weld.hpp"
+#include "input/cracked_domain.hpp"
 #include "sampling/mps.hpp"
 #include "sampling/sizing.hpp"
 
@@ -98,6 +99,12 @@ void check_mesh_options(const Domain& domain, const MeshOptions& given, double s
                                        "faces out of their planes, and a convex cell needs planar faces; with convex "
                                        "cells the default weld tolerance is 0",
                                        weld));
+  if (opt.convex && domain.cracks)
+    for (const CrackSheet& c : domain.cracks->sheets)
+      if (!c.on_sheets.empty())
+        fail(ErrorKind::Usage, fmt::format("convex cells with crossing cracks (crack {}) are not supported yet: mesh them "
+                                           "without --convex",
+                                           c.name));
   // Checked here, not where the sizing field is made, so that a bad value is refused whatever
   // the part (a part without thin walls never makes one).
   if (opt.grade) {

@@ -46,7 +46,7 @@ double cell_volume6(const PolyMesh& m, size_t c, Id&& id, At&& at, std::vector<i
 // One pass over the mesh as it is, in steps that share the clusters being decided.
 class WeldPass {
  public:
-  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r), twin(scratch_of(std::as_const(m)).point_twin) {
+  WeldPass(PolyMesh& m, double w, double r) : m(m), w(w), r(r), twins(scratch_of(std::as_const(m)).point_twins) {
     st.tolerance = w;
   }
   WeldStats run(std::vector<std::pair<int32_t, int32_t>>& edges,
@@ -89,12 +89,31 @@ class WeldPass {
 
   PolyMesh& m;
   const double w, r;
-  // A crack's two copies of a point (FaceScratch::point_twin; empty: no cracks), moved alike.
-  const std::vector<int32_t>& twin;
-  int32_t twin_of(int32_t v) const { return twin.empty() ? -1 : twin[size_t(v)]; }
-  // The copy-a id of a crack point (the smaller of the two), which breaks keepers' ties the same
-  // way on both copies.
-  int32_t canonical(int32_t v) const { return std::min(v, twin_of(v) >= 0 ? twin_of(v) : v); }
+  // A crack point's copies across the sheets it lies on (FaceScratch::point_twins; empty: no
+  // cracks), moved alike.
+  const PointTwins& twins;
+  // f(x) for v and its copies: its twins, and theirs where sheets cross (four copies).
+  template <class F>
+  void for_copies(int32_t v, F&& f) const {
+    int32_t group[8] = {v};
+    int n = 1;
+    for (int i = 0; i < n && !twins.empty(); ++i)
+      for (const auto& [sheet, t] : twins.of(group[i]))
+        if (n < 8 && std::find(group, group + n, t) == group + n) group[n++] = t;
+    for (int i = 0; i < n; ++i) f(group[i]);
+  }
+  int32_t twin_across(int32_t v, int32_t sheet) const {
+    for (const auto& [s, t] : twins.of(v))
+      if (s == sheet) return t;
+    return -1;
+  }
+  // The smallest id among a crack point's copies, which breaks keepers' ties the same way on
+  // every copy.
+  int32_t canonical(int32_t v) const {
+    int32_t least = v;
+    for_copies(v, [&](int32_t x) { least = std::min(least, x); });
+    return least;
+  }
   WeldStats st;
   std::vector<std::pair<int32_t, int32_t>> short_edges;
   std::vector<uint8_t> refused, member;  // per point
@@ -170,8 +189,7 @@ void WeldPass::find_member_faces() {
   const size_t nf = m.face_count(), chunk = 1 << 14, chunks = (nf + chunk - 1) / chunk;
   refused.assign(m.points.size(), 0), member.assign(m.points.size(), 0);
   for (auto [u, v] : short_edges)
-    for (int32_t x : {u, v, twin_of(u), twin_of(v)})
-      if (x >= 0) member[x] = 1;
+    for (int32_t y : {u, v}) for_copies(y, [&](int32_t x) { member[size_t(x)] = 1; });
   std::vector<std::vector<int64_t>> touched(chunks);
 #pragma omp parallel for schedule(dynamic, 1)
   for (size_t ch = 0; ch < chunks; ++ch)
@@ -192,8 +210,7 @@ void WeldPass::find_member_faces() {
 
 void WeldPass::gather_planes() {
   for (auto [u, v] : short_edges)
-    for (int32_t x : {u, v, twin_of(u), twin_of(v)})
-      if (x >= 0) planes[x];
+    for (int32_t y : {u, v}) for_copies(y, [&](int32_t x) { planes[x]; });
   for (int64_t f : member_faces) {
     const int32_t g = m.face_generator[f];
     const int32_t plane = is_border_generator(g)             ? generator_plane(g)
@@ -237,18 +254,20 @@ void WeldPass::decide_clusters() {
   find_clusters();
 }
 
-// A crack's two copies weld alike (issue 38): two crack points in one cluster put their twins in
-// one cluster too, until that holds both ways.
+// A crack's copies weld alike (issue 38): two points of one cluster with twins across one sheet
+// put those twins in one cluster too, sheet by sheet, until that holds every way.
 void WeldPass::mirror_clusters() {
-  if (twin.empty()) return;
+  if (twins.empty()) return;
   for (bool changed = true; changed;) {
     changed = false;
-    std::map<int32_t, int32_t> first;  // cluster root -> its first crack point
+    std::map<std::pair<int32_t, int32_t>, int32_t> first;  // (cluster root, sheet) -> its first point with a twin across it
     for (const auto& [v, p] : planes) {
-      const int32_t t = twin_of(v);
-      if (t < 0 || refused[v] || refused[t]) continue;
-      const auto [it, added] = first.try_emplace(uf.find(v), v);
-      if (!added) changed |= uf.unite(t, twin_of(it->second));
+      if (refused[v]) continue;
+      for (const auto& [sheet, t] : twins.of(v)) {
+        if (refused[t]) continue;
+        const auto [it, added] = first.try_emplace({uf.find(v), sheet}, v);
+        if (!added) changed |= uf.unite(t, twin_across(it->second, sheet));
+      }
     }
   }
 }
@@ -260,9 +279,10 @@ void WeldPass::spread_refusals() {
     spread = false;
     for (auto [u, v] : short_edges)
       if (refused[u] != refused[v]) refused[u] = refused[v] = 1, spread = true;
-    if (twin.empty()) continue;
+    if (twins.empty()) continue;
     for (const auto& [v, p] : planes)
-      if (const int32_t t = twin_of(v); t >= 0 && refused[v] != refused[t]) refused[v] = refused[t] = 1, spread = true;
+      for (const auto& [sheet, t] : twins.of(v))
+        if (refused[v] != refused[t]) refused[v] = refused[t] = 1, spread = true;
   }
 }
 
@@ -383,16 +403,22 @@ void WeldPass::move_points() {
   for (size_t v = 0; v < np; ++v)
     if (stays(v)) m.points[new_id[v]] = destination(int32_t(v));
   m.points.resize(size_t(kept));
-  if (!twin.empty()) {  // each cluster's twin is its twin cluster (mirror_clusters)
-    std::vector<int32_t> moved(size_t(kept), -1);
+  if (!twins.empty()) {  // each cluster's twin across a sheet is its twin cluster (mirror_clusters)
+    std::vector<std::array<int32_t, 3>> moved;  // (point, sheet, twin)
     for (size_t v = 0; v < np; ++v)
-      if (const int32_t t = twin[v]; t >= 0 && stays(v)) {
-        const int32_t to = new_id[size_t(t)];  // (a merged point's is its root's)
-        if (to != new_id[v]) moved[size_t(new_id[v])] = to;
-      }
-    for (size_t v = 0; v < moved.size(); ++v)  // (only pairs both ways stay twins)
-      if (moved[v] >= 0 && moved[size_t(moved[v])] != int32_t(v)) moved[v] = -1;
-    scratch_of(m).point_twin.swap(moved);
+      if (stays(v))
+        for (const auto& [sheet, t] : twins.of(int32_t(v)))
+          if (const int32_t to = new_id[size_t(t)]; to != new_id[v]) moved.push_back({new_id[v], sheet, to});  // (a merged point's is its root's)
+    std::sort(moved.begin(), moved.end());
+    moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+    std::vector<std::array<int32_t, 3>> both_ways;  // (only pairs both ways, one per point and sheet, stay twins)
+    for (size_t i = 0; i < moved.size(); ++i) {
+      const auto& [v, sheet, to] = moved[i];
+      const bool alone = (i == 0 || moved[i - 1][0] != v || moved[i - 1][1] != sheet) &&
+                         (i + 1 == moved.size() || moved[i + 1][0] != v || moved[i + 1][1] != sheet);
+      if (alone && std::binary_search(moved.begin(), moved.end(), std::array<int32_t, 3>{to, sheet, v})) both_ways.push_back(moved[i]);
+    }
+    scratch_of(m).point_twins = PointTwins::from(std::move(both_ways), size_t(kept));
   }
 
 }

@@ -106,21 +106,24 @@ def side_faces(boundary, name, label):
     return faces
 
 
-def check_welded_alike(label, solid, sheet, name, r, seed, weld, work):
-    """A weld far above the default merges points near the sheet that the default leaves apart:
-    the mesh stays valid and the two sides weld alike (each cluster on one side is mirrored on the
-    other). Such a weld may move the front (it cuts the corners of a polygonal front), so the
-    sheet's area is not asked for here."""
+def check_welded_alike(label, solid, sheets, r, seed, weld, work):
+    """A weld far above the default merges points near the sheets that the default leaves apart:
+    the mesh stays valid and the two sides of each sheet weld alike (each cluster on one side is
+    mirrored on the other, across each sheet where they cross). Such a weld may move the front
+    (it cuts the corners of a polygonal front), so the sheet's area is not asked for here.
+    `sheets`: (path, name) pairs."""
     boundary = os.path.join(work, f"{label}_{seed}_boundary.vtu")
-    p = froth("mesh", solid, "--crack", sheet, "-r", repr(r), "--seed", str(seed), "--weld", repr(weld),
+    cracks = [a for path, _ in sheets for a in ("--crack", path)]
+    p = froth("mesh", solid, *cracks, "-r", repr(r), "--seed", str(seed), "--weld", repr(weld),
               "-o", os.path.join(work, f"{label}_{seed}.vtu"), "--boundary", boundary)
     check(p.returncode == 0, f"{label} seed {seed}: exit {p.returncode}: {p.stderr}")
     if p.returncode != 0:
         return
     check("every cell closed, every interior face matched" in p.stdout, f"{label}: the summary's checks")
-    faces = side_faces(boundary, name, label)
-    unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
-    check(unlike == 0 and faces["a"], f"{label} seed {seed}: {unlike} crack faces of side a unlike side b's")
+    for _, name in sheets:
+        faces = side_faces(boundary, name, label)
+        unlike = sides_alike(faces["a"], faces["b"], 1e-8 * r)
+        check(unlike == 0 and faces["a"], f"{label} seed {seed}: {unlike} crack faces of {name}'s side a unlike side b's")
 
 
 def check_case(label, solid, sheet, name, r, seed, on_sheet, sheet_normal, on_front, work, extra=()):
@@ -229,14 +232,29 @@ def main():
             for seed in (1, 2):
                 check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
                            sheet_normal, on_front, work)
-    # Crossing sheets (a branching crack): two through cracks crossing along a line from face to
-    # face, which the cut opens four ways (the box falls into four pieces).
-    crossing = [(os.path.join(CRACKS, "box_through.obj"), "box_through", on_sheet_plane((0, 0, 1), 0.5), up, nowhere),
-                (os.path.join(CRACKS, "box_upright.obj"), "box_upright", on_sheet_plane((1, 0, 0), 0.37),
-                 lambda p: (1, 0, 0), nowhere)]
-    for fraction in (12, 20):
+    # Crossing sheets (a branching crack), cut open four ways along their crossing: two through
+    # cracks crossing from face to face (the box falls into four pieces); a penny upright across
+    # the through crack (its front crosses it, and so does the skirt beyond its front); and two
+    # pennies crossing (their fronts and skirts cross each other's sheets).
+    xdir = lambda p: (1, 0, 0)  # noqa: E731
+    through = (os.path.join(CRACKS, "box_through.obj"), "box_through", on_sheet_plane((0, 0, 1), 0.5), up, nowhere)
+    upright = (os.path.join(CRACKS, "box_upright.obj"), "box_upright", on_sheet_plane((1, 0, 0), 0.37), xdir, nowhere)
+    penny = (os.path.join(CRACKS, "penny.obj"), "penny", on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)),
+             up, on_box_edge((0.25, 0.3), (0.75, 0.7)))
+    on_upright_front = lambda p: abs(p[0] - 0.6) < 1e-9 and on_box_edge((0.25, 0.3), (0.75, 0.7))((p[1], p[2]))  # noqa: E731
+    penny_upright = (os.path.join(CRACKS, "penny_upright.obj"), "penny_upright",
+                     on_sheet_plane((1, 0, 0), 0.6, (0, 0.25, 0.3), (1, 0.75, 0.7)), xdir, on_upright_front)
+    crossings = [("crossing", [through, upright]), ("crossing_penny", [through, penny_upright]),
+                 ("crossing_pennies", [penny, penny_upright])]
+    for label, sheets in crossings:
+        for fraction in (12, 20):
+            for seed in (1, 2):
+                check_cracks(f"{label}_{fraction}", box, sheets, 1 / fraction, seed, work)
         for seed in (1, 2):
-            check_cracks(f"crossing_{fraction}", box, crossing, 1 / fraction, seed, work)
+            check_welded_alike(f"{label}_weld", box, [s[:2] for s in sheets], 1 / 20, seed, 0.3 / 20, work)
+    p = froth("mesh", box, "--crack", through[0], "--crack", upright[0], "-r", "0.1", "--convex", "-o",
+              os.path.join(work, "cv.vtu"))
+    check(p.returncode == 2 and "crossing cracks" in p.stderr, f"--convex with crossing cracks: exit {p.returncode}: {p.stderr}")
     # Graded (--grade): the plate is thinner than 2r, so h shrinks in it (to 0.57-0.63 r); the
     # sheets' disks are the interfaces' factors times h. And convex cells (--convex): a cut
     # through a crack face splits its twin across the crack alike. A through crack, and a
@@ -272,7 +290,7 @@ def main():
     for label, solid, sheet, name, size, *_ in cases:
         if label in ("box_through", "penny", "curved"):
             for seed in (1, 2):
-                check_welded_alike(f"{label}_weld", solid, os.path.join(CRACKS, sheet), name, size / 20, seed,
+                check_welded_alike(f"{label}_weld", solid, [(os.path.join(CRACKS, sheet), name)], size / 20, seed,
                                    0.3 * size / 20, work)
 
     through = os.path.join(CRACKS, "box_through.obj")

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <array>
+#include <map>
 #include <set>
 
 #include "common/test_support.hpp"
@@ -18,12 +19,14 @@
 namespace froth {
 namespace {
 
-Domain cracked_box(const TriangleSurface& sheet, const std::string& name) {
+Domain cracked_box(const std::vector<std::pair<TriangleSurface, std::string>>& given) {
   const Domain box = load_domain("box:0,0,0,1,1,1");
-  std::vector<CrackSheet> sheets{crack_from_surface(sheet, name, box.surface)};
+  std::vector<CrackSheet> sheets;
+  for (const auto& [sheet, name] : given) sheets.push_back(crack_from_surface(sheet, name, box.surface));
   conform_crack_sheets(sheets, box.surface);
   return cut_along_cracks(box, std::move(sheets));
 }
+Domain cracked_box(const TriangleSurface& sheet, const std::string& name) { return cracked_box({{sheet, name}}); }
 
 struct CrackFaces {
   double area[2] = {0, 0};
@@ -111,6 +114,37 @@ TEST(CrackMesh, ThroughCrackCutsTheBoxInTwo) {
         for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
           lo = std::min(lo, m.points[m.face_vertices[k]].z), hi = std::max(hi, m.points[m.face_vertices[k]].z);
       EXPECT_FALSE(lo < 0.5 - 1e-9 && hi > 0.5 + 1e-9) << "cell " << cell;
+    }
+  });
+}
+
+// Two through cracks crossing along a line from face to face (z = 0.5 and x = 0.37): the cut
+// surface has four copies of each point of the crossing, one per quarter, and the box falls
+// into four pieces that no cell reaches across.
+TEST(CrackMesh, CrossingThroughCracksCutTheBoxInFour) {
+  TriangleSurface upright = test::square_sheet(-0.13, 1.07, -0.11, 1.09, 0, 4);
+  for (Vec3& p : upright.vertices) p = {0.37, p.x, p.y};
+  const Domain d = cracked_box({{test::square_sheet(-0.2, 1.3, -0.1, 1.2, 0.5, 5), "flat"}, {upright, "upright"}});
+  std::map<std::array<double, 3>, int> copies;
+  for (const Vec3& p : d.surface.vertices)
+    if (std::abs(p.x - 0.37) < 1e-12 && std::abs(p.z - 0.5) < 1e-12) ++copies[{p.x, p.y, p.z}];
+  ASSERT_GE(copies.size(), 3u);
+  for (const auto& [p, n] : copies) EXPECT_EQ(n, 4) << "at y = " << p[1];
+  for_each_mesh(d, [](const PolyMesh& m, const RunReport& run) {
+    ASSERT_EQ(run.cracks.size(), 2u);
+    for (const RunReport::Crack& c : run.cracks) {
+      EXPECT_NEAR(c.from_a, 1.0, 1e-9) << c.name;
+      EXPECT_NEAR(c.from_b, 1.0, 1e-9) << c.name;
+    }
+    EXPECT_EQ(crack_faces(m, "flat", 0.5).matched_on_sheet, 0u);
+    for (size_t cell = 0; cell < m.cell_count(); ++cell) {
+      Vec3 lo{1, 1, 1}, hi{0, 0, 0};
+      for (int64_t f = m.cell_face_begin[cell]; f < m.cell_face_begin[cell + 1]; ++f)
+        for (int64_t k = m.face_vertex_begin[f]; k < m.face_vertex_begin[f + 1]; ++k)
+          for (int a = 0; a < 3; ++a)
+            lo[a] = std::min(lo[a], m.points[m.face_vertices[k]][a]), hi[a] = std::max(hi[a], m.points[m.face_vertices[k]][a]);
+      EXPECT_FALSE(lo.z < 0.5 - 1e-9 && hi.z > 0.5 + 1e-9) << "cell " << cell;
+      EXPECT_FALSE(lo.x < 0.37 - 1e-9 && hi.x > 0.37 + 1e-9) << "cell " << cell;
     }
   });
 }
