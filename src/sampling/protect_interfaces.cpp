@@ -331,7 +331,9 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
   InterfaceProtectionStats cs;
   ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs, h, lipschitz);
   const size_t solid_planes = domain.cracks->solid.planes.size();  // the sheets' come after
-  const double near = 1e-9 * domain.bounds.diagonal();
+  // (A corner seed lies 1e-7 r off its corner, along the sheets' sides a: that far from the
+  // surface too where they cross it at a slant.)
+  const double near = std::max(1e-9 * domain.bounds.diagonal(), 2e-7 * r);
   std::vector<int32_t> tris;
   for (size_t k = 0; k < q.points.size(); ++k) {
     const Vec3 x = q.points[k];

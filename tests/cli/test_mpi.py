@@ -77,7 +77,16 @@ HEATER = [os.path.join(MODELS, "multi_region_heater", f + ".stl")
 sheet = os.path.join(tmp, "through_x.obj")
 with open(sheet, "w") as f:
     f.write("v 0.1 -0.7 -0.7\nv 0.1 0.7 -0.7\nv 0.1 0.7 0.7\nv 0.1 -0.7 0.7\nf 1 2 3\nf 1 3 4\n")
+# And the box cut along two crossing cracks: a through crack at z = 0.73 and a penny upright
+# across it (x = 0.61, its front crossing the first).
+crossing = [os.path.join(tmp, "through_z.obj"), os.path.join(tmp, "penny_x.obj")]
+with open(crossing[0], "w") as f:
+    f.write("v -0.1 -0.1 0.73\nv 1.1 -0.1 0.73\nv 1.1 1.1 0.73\nv -0.1 1.1 0.73\nf 1 2 3\nf 1 3 4\n")
+with open(crossing[1], "w") as f:
+    f.write("v 0.61 0.23 0.41\nv 0.61 0.77 0.41\nv 0.61 0.77 1.09\nv 0.61 0.23 1.09\nf 1 2 3\nf 1 3 4\n")
 for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
+                               ("box_crossing_cracks", "box:0,0,0,1,1,1.5", "0.05",
+                                ["--crack", crossing[0], "--crack", crossing[1]]),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
                                ("hollow_sphere_graded", os.path.join(MODELS, "hollow_sphere.off"), "0.0577", ["--grade"]),
                                ("hollow_sphere_graded_cracked", os.path.join(MODELS, "hollow_sphere.off"), "0.0577",
