@@ -229,12 +229,17 @@ PointTwins crack_point_twins(const PolyMesh& m, const std::vector<std::array<int
   // Per sheet, its points on one side only, each with the point at its place on the other side
   // and alike on every other sheet; pairs kept where found both ways.
   std::vector<std::array<int32_t, 3>> pairs;  // (point, sheet, twin)
-  for (size_t j = 0; j < sheet_planes.size(); ++j) {
-    std::vector<int32_t> on[2];
-    for (size_t v = 0; v < m.points.size(); ++v) {
-      const bool a = sides.has(int32_t(v), int32_t(2 * j)), b = sides.has(int32_t(v), int32_t(2 * j + 1));
-      if (a != b) on[b].push_back(int32_t(v));
+  std::vector<std::vector<int32_t>> on_sheet(2 * sheet_planes.size());  // per 2j + side: its points on that side only
+  for (size_t v = 0; v < m.points.size(); ++v) {
+    const auto codes = sides.of(int32_t(v));
+    for (size_t i = 0; i < codes.size(); ++i) {
+      const bool both = (i + 1 < codes.size() && codes[i + 1] == (codes[i] | 1) && codes[i] % 2 == 0) ||
+                        (i > 0 && codes[i - 1] == (codes[i] & ~1) && codes[i] % 2 == 1);
+      if (!both) on_sheet[size_t(codes[i])].push_back(int32_t(v));
     }
+  }
+  for (size_t j = 0; j < sheet_planes.size(); ++j) {
+    const std::vector<int32_t>* on = &on_sheet[2 * j];
     auto fits = [&](int32_t v, int32_t w) { return sides.alike_but(v, w, int32_t(j)); };
     const std::vector<int32_t> to_b = nearest_fitting(m, on[0], on[1], tolerance, fits);
     const std::vector<int32_t> to_a = nearest_fitting(m, on[1], on[0], tolerance, fits);

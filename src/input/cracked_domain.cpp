@@ -273,10 +273,11 @@ class CutOpen {
       const Use& a = ring[k];
       const Use& b = ring[(k + 1) % ring.size()];
       if (a.t != b.t && !before(a, b) && !before(b, a) && dot(across(third(a)), across(third(b))) > 0) {
-        const int32_t side = 2 * (on_surface(2 * a.t) ? b.t : a.t);
-        refuse(sheets_[sheet_of(on_surface(side) ? 2 * b.t : side)],
-               fmt::format("near {} it lies on the solid's surface or on another crack: a crack must cross them",
-                           at(0.5 * (at_point(u) + at_point(w)))));
+        const Vec3 where = 0.5 * (at_point(u) + at_point(w));
+        if (on_surface(2 * a.t) && on_surface(2 * b.t))
+          fail(ErrorKind::Internal, fmt::format("the solid's surface cut by the cracks overlaps itself near {}", at(where)));
+        refuse(sheets_[sheet_of(2 * (on_surface(2 * a.t) ? b.t : a.t))],
+               fmt::format("near {} it lies on the solid's surface or on another crack: a crack must cross them", at(where)));
       }
     }
   }
