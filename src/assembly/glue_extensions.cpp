@@ -1,6 +1,7 @@
 #include "assembly/glue_extensions.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <span>
@@ -86,18 +87,26 @@ CrackSides crack_sides(const PolyMesh& m, CodeOf&& code_of) {
 }
 
 // For each point of `from`, the nearest point of `to` within `tolerance` that `fits` (the
-// smaller id of two as near; -1: none), by a sweep along x.
+// smaller id of two as near; -1: none), by a sweep along the axis `to` spreads most along (a
+// sheet square to x has all its points at one x).
 template <class Fits>
 std::vector<int32_t> nearest_fitting(const PolyMesh& m, const std::vector<int32_t>& from, std::vector<int32_t> to,
                                      double tolerance, Fits&& fits) {
-  std::sort(to.begin(), to.end(), [&](int32_t a, int32_t b) { return m.points[a].x < m.points[b].x; });
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (int32_t v : to)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], m.points[v][a]), hi[a] = std::max(hi[a], m.points[v][a]);
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+  std::sort(to.begin(), to.end(), [&](int32_t a, int32_t b) { return m.points[a][axis] < m.points[b][axis]; });
   std::vector<int32_t> found(from.size(), -1);
   for (size_t i = 0; i < from.size(); ++i) {
     const int32_t v = from[i];
     const Vec3 p = m.points[v];
-    auto it = std::lower_bound(to.begin(), to.end(), p.x - tolerance, [&](int32_t a, double x) { return m.points[a].x < x; });
+    auto it = std::lower_bound(to.begin(), to.end(), p[axis] - tolerance,
+                               [&](int32_t a, double x) { return m.points[a][axis] < x; });
     double best_d = tolerance;
-    for (; it != to.end() && m.points[*it].x <= p.x + tolerance; ++it) {
+    for (; it != to.end() && m.points[*it][axis] <= p[axis] + tolerance; ++it) {
       if (*it == v || !fits(v, *it)) continue;
       const double d = norm(m.points[*it] - p);
       if (d < best_d || (d == best_d && (found[i] < 0 || *it < found[i]))) found[i] = *it, best_d = d;
