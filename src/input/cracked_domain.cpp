@@ -46,8 +46,8 @@ TriangleSurface corefined_surface(const Domain& solid, std::vector<CrackSheet>& 
   return any ? from_exact_mesh(surface.mesh) : solid.surface;
 }
 
-// For each triangle of `cut` (a surface split from `whole`, as a corefinement or a clip splits
-// it), the triangle of `whole` it lies in: the nearest to its centroid, which lies inside it.
+}  // namespace
+
 std::vector<int32_t> parent_triangles(const TriangleSurface& whole, const TriangleSurface& cut) {
   std::vector<int32_t> parent(cut.triangles.size());
   if (cut.triangles == whole.triangles && cut.vertices == whole.vertices) {
@@ -67,6 +67,8 @@ std::vector<int32_t> parent_triangles(const TriangleSurface& whole, const Triang
   }
   return parent;
 }
+
+namespace {
 
 // The sheet as given, extended beyond each of its free edges that reaches into the solid (its
 // front, where it meets the surface from inside) by a skirt `width` wide: a quad per edge in the
@@ -344,8 +346,7 @@ class CutOpen {
 }  // namespace
 
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r) {
-  if (solid.regions)
-    fail(ErrorKind::Usage, "cracks in a multi-region solid are not supported yet: give one closed solid with the cracks");
+  if (solid.regions) return cut_regions_along_cracks(solid, std::move(sheets), r);
   auto set = std::make_shared<CrackSet>();
   set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
   set->skirt_r = set->fronts ? r : 0;

@@ -43,6 +43,17 @@ struct CrackSet {
 // sheet has a front inside the solid and `r` > 0, along the sheet extended by its skirt (above).
 // Throws Error(InvalidInput) where a sheet's cut cannot be made: two sheets meeting the solid's
 // surface at one point, or crossing each other (not yet supported), naming the point.
+// A multi-region solid (`solid.regions` set) is cut region by region (cut_regions_along_cracks).
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r = 0);
+
+// A multi-region solid cut along sheets that each lie in one region, off the interfaces
+// (input/cracked_regions.cpp): the domain's regions are the cut regions, numbered alike, and its
+// surface is their union's boundary with the crack copies. Throws Error(Usage) for a sheet that
+// meets an interface (or whose front's skirt does) or lies in two regions.
+Domain cut_regions_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r);
+
+// For each triangle of `cut` (a surface split from `whole`, as a corefinement or a clip splits
+// it), the triangle of `whole` it lies in: the nearest to its centroid, which lies inside it.
+std::vector<int32_t> parent_triangles(const TriangleSurface& whole, const TriangleSurface& cut);
 
 }  // namespace froth

@@ -121,15 +121,15 @@ SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const Mesh
   if (!opt.grade || fs.thickness.empty()) return SizingField::uniform(opt.r);
   // A multi-region solid's regions are measured too: a layer thinner than 2r between two
   // interfaces needs h below it as a wall does, or its cells would reach across it.
-  std::vector<FeatureSize> region_fs;
-  std::vector<SizingField::Measured> regions;
-  if (domain.regions) {
-    region_fs.reserve(domain.regions->size());
-    for (const Domain& solid : domain.regions->solids) region_fs.push_back(measure_feature_size(solid, 2 * opt.r));
-    for (size_t k = 0; k < region_fs.size(); ++k) regions.push_back({&domain.regions->solids[k], &region_fs[k]});
-  }
   // A cut solid's walls are the solid's (measure_features): the field is fitted to it too.
   const Domain& measured = domain.cracks ? domain.cracks->solid : domain;
+  std::vector<FeatureSize> region_fs;
+  std::vector<SizingField::Measured> regions;
+  if (measured.regions) {
+    region_fs.reserve(measured.regions->size());
+    for (const Domain& solid : measured.regions->solids) region_fs.push_back(measure_feature_size(solid, 2 * opt.r));
+    for (size_t k = 0; k < region_fs.size(); ++k) regions.push_back({&measured.regions->solids[k], &region_fs[k]});
+  }
   SizingField h = SizingField::from_feature_size(measured, fs, opt.r, {opt.min_r, opt.grading}, regions);
   run.sizing = {!h.is_uniform(), h.min_r(), h.grading(), h.lipschitz(), h.smallest(), h.graded_fraction,
                 h.cell_ratio,         h.floor_raised};

@@ -330,7 +330,7 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
                      const std::function<double(Vec3)>& h, double lipschitz) {
   InterfaceProtectionStats cs;
   ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs, h, lipschitz);
-  const size_t solid_planes = domain.cracks->solid.planes.size();  // the sheets' come after
+  const size_t solid_planes = size_t(domain.cracks->plane_begin[0]);  // the sheets' come after
   // (A corner seed lies 1e-7 r off its corner, along the sheets' sides a: that far from the
   // surface too where they cross it at a slant.)
   const double near = std::max(1e-9 * domain.bounds.diagonal(), 2e-7 * r);
@@ -366,10 +366,10 @@ ProtectionSeeds protect_boundary_and_interfaces(const Domain& domain, double r, 
   stats.vertex_seeds = size_t(std::count(p.kinds.begin(), p.kinds.end(), CellKind::Vertex));
   stats.edge_seeds = reflex - stats.vertex_seeds;
   if (domain.cracks) add_crack_seeds(domain, r, seed, p, stats, h, lipschitz);
-  if (!domain.regions) return p;
+  if (!solid.regions) return p;
   InterfaceProtectionStats is;
   const ProtectionSeeds q =
-      protect_interfaces(*domain.regions, r, seed, p.points, domain.features.angle_degrees, &is, h, lipschitz);
+      protect_interfaces(*solid.regions, r, seed, p.points, domain.features.angle_degrees, &is, h, lipschitz);
   for (size_t k : is.prior_on_curves) p.kinds[k] = CellKind::InterfaceEdge;
   p.points.insert(p.points.end(), q.points.begin(), q.points.end());
   p.kinds.insert(p.kinds.end(), q.kinds.begin(), q.kinds.end());

@@ -1,0 +1,305 @@
+// A multi-region solid cut open along its crack sheets: each sheet lies in one region, and that
+// region's solid is cut along it as a one-region solid is (input/cracked_domain.cpp). The regions
+// are then one RegionSet again, numbered alike: the solids keep the shared vertices' ids and the
+// facets' numbers, and each crack copy becomes a facet of its own with its region behind it and
+// nothing in front, as a piece of the outer boundary is. Cells are cut to each region by its cut
+// solid (assembly/region_cells.hpp), so a cell the sheet crosses falls into a piece on each side.
+//
+// A sheet must stay off the interfaces: where it met one, both regions' surfaces would have to be
+// cut along the same line and doubled alike there, which is not built yet (refused, exit 2).
+#include <algorithm>
+#include <map>
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <fmt/format.h>
+
+#include "common/surface_locator.hpp"
+#include "froth/error.hpp"
+#include "input/cgal_meshes.hpp"
+#include "input/cracked_domain.hpp"
+
+namespace froth {
+namespace {
+
+using Triangle = InexactKernel::Triangle_3;
+using Primitive = CGAL::AABB_triangle_primitive<InexactKernel, std::vector<Triangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<InexactKernel, Primitive>>;
+
+std::string at(Vec3 p) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", p.x, p.y, p.z); }
+Triangle triangle_of(const std::vector<Vec3>& V, const std::array<int32_t, 3>& t) {
+  auto p = [&](int q) { return InexactKernel::Point_3(V[size_t(t[q])].x, V[size_t(t[q])].y, V[size_t(t[q])].z); };
+  return {p(0), p(1), p(2)};
+}
+Vec3 centroid(const std::vector<Vec3>& V, const std::array<int32_t, 3>& t) {
+  return (1.0 / 3) * (V[size_t(t[0])] + V[size_t(t[1])] + V[size_t(t[2])]);
+}
+
+// The interfaces' triangles (once each, from the region behind them), to find a sheet that
+// touches one (exact predicates).
+class Interfaces {
+ public:
+  explicit Interfaces(const RegionSet& set) {
+    for (size_t k = 0; k < set.size(); ++k) {
+      const Domain& d = set.solids[k];
+      for (size_t t = 0; t < d.surface.triangles.size(); ++t) {
+        const auto& sides = set.facet_sides[size_t(d.triangle_plane[t])];
+        if (sides[0] != int32_t(k) || sides[1] < 0) continue;
+        triangles_.push_back(triangle_of(d.surface.vertices, d.surface.triangles[t]));
+        between_.push_back(sides);
+      }
+    }
+    if (!triangles_.empty()) tree_.emplace(triangles_.begin(), triangles_.end());
+  }
+  // The interface (its two regions) that triangle t of `s` touches, and a point near where.
+  std::optional<std::pair<std::array<int32_t, 2>, Vec3>> touched_by(const std::vector<Vec3>& V,
+                                                                    const std::array<int32_t, 3>& t) const {
+    if (!tree_) return std::nullopt;
+    const auto hit = tree_->any_intersected_primitive(triangle_of(V, t));
+    if (!hit) return std::nullopt;
+    const Vec3 c = centroid(V, t);
+    const auto q = tree_->closest_point({c.x, c.y, c.z});
+    return std::pair{between_[size_t(*hit - triangles_.begin())], Vec3{q.x(), q.y(), q.z()}};
+  }
+
+ private:
+  std::vector<Triangle> triangles_;
+  std::vector<std::array<int32_t, 2>> between_;
+  std::optional<Tree> tree_;
+};
+
+// The region each sheet lies in, refusing a sheet that touches an interface or lies in several.
+std::vector<int32_t> regions_of_sheets(const RegionSet& set, const Interfaces& interfaces,
+                                       const std::vector<CrackSheet>& sheets) {
+  std::vector<int32_t> region;
+  for (const CrackSheet& c : sheets) {
+    const TriangleSurface& S = c.surface;
+    int32_t in = -1;
+    for (const auto& t : S.triangles) {
+      if (const auto touch = interfaces.touched_by(S.vertices, t))
+        fail(ErrorKind::Usage,
+             fmt::format("crack {} meets the interface between regions {} and {} near {}: a crack that reaches an "
+                         "interface or crosses it is not supported yet (give a crack inside one region)",
+                         c.name, set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
+                         at(touch->second)));
+      const Vec3 p = centroid(S.vertices, t);
+      int32_t here = -1;
+      for (size_t k = 0; k < set.size() && here < 0; ++k)
+        if (set.solids[k].contains(p)) here = int32_t(k);
+      if (here < 0) fail(ErrorKind::Internal, fmt::format("crack {}: its point {} lies in no region", c.name, at(p)));
+      if (in >= 0 && here != in)
+        fail(ErrorKind::Usage, fmt::format("crack {} lies in regions {} and {}: give one crack per region", c.name,
+                                           set.names[size_t(in)], set.names[size_t(here)]));
+      in = here;
+    }
+    region.push_back(in);
+  }
+  return region;
+}
+
+// Plane f of a region's solid, oriented out of it (as RegionSet::solids hold them).
+std::vector<Plane> planes_out_of(const RegionSet& set, int32_t k) {
+  std::vector<Plane> planes = set.facet_planes;
+  for (size_t f = 0; f < planes.size(); ++f)
+    if (set.facet_sides[f][1] == k) planes[f] = {-1.0 * planes[f].normal, -planes[f].offset};
+  return planes;
+}
+
+}  // namespace
+
+Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> sheets, double r) {
+  const RegionSet& R = *whole.regions;
+  const Interfaces interfaces(R);
+  const std::vector<int32_t> region_of = regions_of_sheets(R, interfaces, sheets);
+  const std::vector<Vec3>& V0 = R.boundary.surface.vertices;
+  const size_t n0 = V0.size();
+  const int32_t facets = int32_t(R.facet_planes.size());
+  for (const Domain& d : R.solids)
+    if (d.surface.vertices.size() != n0) fail(ErrorKind::Internal, "regions that do not share their vertices");
+
+  // Each region with sheets cut as a solid of its own: its facets are the region set's, its new
+  // vertices and crack planes numbered after them.
+  struct Cut {
+    Domain d;
+    std::vector<size_t> sheets;  // input indices, in the cut's order
+  };
+  std::vector<std::optional<Cut>> cuts(R.size());
+  for (size_t k = 0; k < R.size(); ++k) {
+    Cut c;
+    std::vector<CrackSheet> mine;
+    for (size_t i = 0; i < sheets.size(); ++i)
+      if (region_of[i] == int32_t(k)) c.sheets.push_back(i), mine.push_back(sheets[i]);
+    if (mine.empty()) continue;
+    c.d = cut_along_cracks(R.solids[k], std::move(mine), r);
+    cuts[k] = std::move(c);
+  }
+
+  // Global numbers: vertices after the shared ones region by region; crack planes sheet by sheet
+  // in the input's order, side a's then side b's.
+  auto set = std::make_shared<CrackSet>();
+  auto out = std::make_shared<RegionSet>(R);
+  std::vector<Vec3> V = V0;
+  std::vector<std::vector<int32_t>> vertex_of(R.size()), plane_of(R.size());
+  std::vector<int32_t> base(sheets.size()), count(sheets.size());
+  std::vector<std::array<int, 2>> where(sheets.size());  // (region, index in its cut)
+  for (size_t k = 0; k < R.size(); ++k)
+    if (cuts[k])
+      for (size_t j = 0; j < cuts[k]->sheets.size(); ++j) where[cuts[k]->sheets[j]] = {int(k), int(j)};
+  set->plane_begin = {facets};
+  for (size_t i = 0; i < sheets.size(); ++i) {
+    const CrackSet& local = *cuts[size_t(where[i][0])]->d.cracks;
+    const size_t j = size_t(where[i][1]);
+    count[i] = local.plane_middle[j] - local.plane_begin[j];
+    base[i] = set->plane_begin.back();
+    set->plane_middle.push_back(base[i] + count[i]);
+    set->plane_begin.push_back(base[i] + 2 * count[i]);
+  }
+  out->facet_planes.resize(size_t(set->plane_begin.back()));
+  out->facet_sides.resize(size_t(set->plane_begin.back()));
+  for (size_t k = 0; k < R.size(); ++k) {
+    if (!cuts[k]) continue;
+    const Domain& d = cuts[k]->d;
+    const CrackSet& local = *d.cracks;
+    vertex_of[k].resize(d.surface.vertices.size());
+    for (size_t v = 0; v < vertex_of[k].size(); ++v) {
+      if (v < n0) vertex_of[k][v] = int32_t(v);
+      else vertex_of[k][v] = int32_t(V.size()), V.push_back(d.surface.vertices[v]);
+    }
+    plane_of[k].resize(d.planes.size());
+    for (int32_t p = 0; p < facets; ++p) plane_of[k][size_t(p)] = p;
+    for (size_t j = 0; j < cuts[k]->sheets.size(); ++j) {
+      const size_t i = cuts[k]->sheets[j];
+      for (int32_t p = local.plane_begin[j]; p < local.plane_begin[j + 1]; ++p) {
+        const int32_t g = base[i] + (p - local.plane_begin[j]);
+        plane_of[k][size_t(p)] = g;
+        out->facet_planes[size_t(g)] = d.planes[size_t(p)];  // (out of region k: k behind, nothing in front)
+        out->facet_sides[size_t(g)] = {int32_t(k), -1};
+      }
+    }
+    for (const auto& [a, b] : local.extension_planes)
+      set->extension_planes.push_back({plane_of[k][size_t(a)], plane_of[k][size_t(b)]});
+  }
+  std::sort(set->extension_planes.begin(), set->extension_planes.end());
+
+  // The boundary's patches: the union's, then each crack's sides (and its skirt's, glued: on no face).
+  Domain boundary = R.boundary;
+  TriangleSurface& B = boundary.surface;
+  if (B.triangle_patch.size() != B.triangles.size()) B.patch_names = {"surface"}, B.triangle_patch.assign(B.triangles.size(), 0);
+  std::vector<std::array<int32_t, 3>> crack_patch(sheets.size());
+  for (size_t i = 0; i < sheets.size(); ++i) {
+    const int32_t a = int32_t(B.patch_names.size());
+    B.patch_names.push_back(fmt::format("crack_{}_a", sheets[i].name));
+    B.patch_names.push_back(fmt::format("crack_{}_b", sheets[i].name));
+    crack_patch[i] = {a, a + 1, -1};
+    set->patches.push_back({a, a + 1});
+    const CrackSet& local = *cuts[size_t(where[i][0])]->d.cracks;
+    const size_t j = size_t(where[i][1]);
+    const bool skirted = std::any_of(local.extension_planes.begin(), local.extension_planes.end(), [&](const auto& e) {
+      return e[0] >= local.plane_begin[j] && e[0] < local.plane_begin[j + 1];
+    });
+    if (skirted) crack_patch[i][2] = int32_t(B.patch_names.size()), B.patch_names.push_back(fmt::format("crack_{}_extension", sheets[i].name));
+  }
+  auto sheet_of_plane = [&](int32_t g) {
+    const size_t i = size_t(std::upper_bound(set->plane_begin.begin(), set->plane_begin.end(), g) - set->plane_begin.begin()) - 1;
+    return i;
+  };
+  std::vector<uint8_t> is_extension(size_t(set->plane_begin.back()), 0);
+  for (const auto& [a, b] : set->extension_planes) is_extension[size_t(a)] = is_extension[size_t(b)] = 1;
+
+  // The boundary: the uncut regions' triangles as they were, then each cut region's that are not
+  // on an interface, crack copies included.
+  TriangleSurface kept;
+  kept.vertices = V;
+  std::vector<int32_t> kept_plane, kept_patch;
+  for (size_t t = 0; t < B.triangles.size(); ++t) {
+    const auto& sides = R.facet_sides[size_t(boundary.triangle_plane[t])];
+    if (cuts[size_t(std::max(sides[0], sides[1]))]) continue;
+    kept.triangles.push_back(B.triangles[t]);
+    kept_plane.push_back(boundary.triangle_plane[t]);
+    kept_patch.push_back(B.triangle_patch[t]);
+  }
+  for (size_t k = 0; k < R.size(); ++k) {
+    if (!cuts[k]) continue;
+    Domain& d = cuts[k]->d;
+    TriangleSurface outer;  // the region's triangles on the union's boundary, for their patches
+    outer.vertices = d.surface.vertices;
+    std::vector<size_t> outer_of;
+    for (size_t t = 0; t < d.surface.triangles.size(); ++t) {
+      auto& tri = d.surface.triangles[t];
+      int32_t& plane = d.triangle_plane[t];
+      const bool crack = plane >= facets;
+      if (!crack && R.is_interface(plane)) {
+        for (int32_t& v : tri) v = vertex_of[k][size_t(v)];
+        continue;
+      }
+      if (!crack) outer.triangles.push_back(tri), outer_of.push_back(kept.triangles.size());
+      for (int32_t& v : tri) v = vertex_of[k][size_t(v)];
+      plane = plane_of[k][size_t(plane)];
+      kept.triangles.push_back(tri);
+      kept_plane.push_back(plane);
+      if (crack) {
+        const size_t i = sheet_of_plane(plane);
+        const int side = plane < set->plane_middle[i] ? 0 : 1;
+        if (const auto touch = interfaces.touched_by(V, tri))  // (the sheet was not: its skirt)
+          fail(ErrorKind::Usage,
+               fmt::format("crack {}: its front comes within 2r = {:.6g} of the interface between regions {} and {} "
+                           "near {}; the cells at a front are split by the sheet extended 2r beyond it, and that "
+                           "extension must stay off interfaces (use a smaller r, or move the crack's front away "
+                           "from the interface)",
+                           sheets[i].name, 2 * r, R.names[size_t(touch->first[0])], R.names[size_t(touch->first[1])],
+                           at(touch->second)));
+        kept_patch.push_back(is_extension[size_t(plane)] ? crack_patch[i][2] : crack_patch[i][size_t(side)]);
+      } else {
+        kept_patch.push_back(0);  // (set below from the triangle of the uncut boundary it lies in)
+      }
+    }
+    if (!outer.triangles.empty()) {
+      const std::vector<int32_t> parent = parent_triangles(B, outer);
+      for (size_t t = 0; t < parent.size(); ++t) kept_patch[outer_of[t]] = B.triangle_patch[size_t(parent[t])];
+    }
+    // The cut region as RegionSet's solids hold it: the shared numbering, planes out of it.
+    d.surface.vertices = V;
+    d.planes = planes_out_of(*out, int32_t(k));
+    d.locator = std::make_shared<SurfaceLocator>(d.surface, true);
+    d.cracks = set;
+    out->solids[k] = std::move(d);
+  }
+  for (size_t k = 0; k < R.size(); ++k)
+    if (!cuts[k]) out->solids[k].planes = planes_out_of(*out, int32_t(k)), out->solids[k].surface.vertices = V;
+  B.vertices = std::move(kept.vertices);
+  B.triangles = std::move(kept.triangles);
+  B.triangle_patch = std::move(kept_patch);
+  boundary.triangle_plane = std::move(kept_plane);
+  boundary.planes = out->facet_planes;  // (oriented out of the union, as make_union orients them)
+  for (size_t f = 0; f < size_t(facets); ++f)
+    if (R.facet_sides[f][1] >= 0 && R.facet_sides[f][0] < 0)
+      boundary.planes[f] = {-1.0 * R.facet_planes[f].normal, -R.facet_planes[f].offset};
+  boundary.locator = std::make_shared<SurfaceLocator>(B, true);
+  boundary.convex = false;
+
+  // Every region's edges, numbered alike (SurfaceGenerators).
+  out->edges.clear();
+  for (const Domain& d : out->solids)
+    for (const auto& t : d.surface.triangles)
+      for (int q = 0; q < 3; ++q) out->edges.push_back(std::minmax(t[size_t(q)], t[size_t((q + 1) % 3)]));
+  std::sort(out->edges.begin(), out->edges.end());
+  out->edges.erase(std::unique(out->edges.begin(), out->edges.end()), out->edges.end());
+  out->boundary = boundary;
+
+  set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
+  set->skirt_r = set->fronts ? r : 0;
+  set->sheets = std::move(sheets);
+  set->solid = whole;
+  Domain d = whole;
+  d.surface = boundary.surface;
+  d.triangle_plane = boundary.triangle_plane;
+  d.planes = boundary.planes;
+  d.locator = boundary.locator;
+  d.convex = false;
+  d.regions = std::move(out);
+  d.cracks = std::move(set);
+  return d;
+}
+
+}  // namespace froth
