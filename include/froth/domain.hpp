@@ -161,13 +161,14 @@ Domain domain_from_regions(const std::vector<TriangleSurface>& surfaces, const s
 // Reads every input (files only) and makes them one multi-region domain (one input: load_domain).
 Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions& options = {});
 
-// `solid` (one region, as load_domain makes) cut open along the crack sheets in `sheets` (STL,
+// `solid` (as load_domain or load_regions makes it) cut open along the crack sheets in `sheets` (STL,
 // OFF, OBJ or PLY files, in the solid's coordinates, each named by its file's stem): each sheet
 // is clipped to the solid (reported), and the mesh of the returned domain has each sheet's
 // faces twice, on patches crack_NAME_a and crack_NAME_b, sharing vertices only along the front.
 // A sheet may reach the solid's surface (a through or edge crack), be closed (a lens) or end
 // inside the solid (a penny: the cells at its front are split there when the mesh is made, at
-// its r). Crossing sheets and a multi-region solid are not supported yet. Throws Error:
+// its r). Sheets may cross; in a multi-region solid each must lie inside one region, off its
+// interfaces (Usage otherwise, not supported yet). Throws Error:
 // InvalidInput naming the defect and a point (see input/cracks.hpp), Usage for what is not
 // supported.
 Domain load_cracks(const Domain& solid, const std::vector<std::string>& sheets, const DomainOptions& options = {});

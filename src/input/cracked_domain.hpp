@@ -41,8 +41,8 @@ struct CrackSet {
 // `solid` (a validated one-region domain, as load_domain makes) cut open along `sheets` (as
 // load_crack and conform_crack_sheets make them, in the solid's stored coordinates); where a
 // sheet has a front inside the solid and `r` > 0, along the sheet extended by its skirt (above).
-// Throws Error(InvalidInput) where a sheet's cut cannot be made: two sheets meeting the solid's
-// surface at one point, or crossing each other (not yet supported), naming the point.
+// Throws Error(InvalidInput) where a sheet's cut cannot be made (two sheets meeting the solid's
+// surface at one point), naming the point.
 // A multi-region solid (`solid.regions` set) is cut region by region (cut_regions_along_cracks).
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r = 0);
 

@@ -270,8 +270,11 @@ def main():
         for fraction in (12, 20):
             for seed in (1, 2):
                 check_cracks(f"{label}_{fraction}", two_boxes, sheets, 1 / fraction, seed, work)
+    curved = (os.path.join(CRACKS, "curved.obj"), "curved", on_triangles(os.path.join(CRACKS, "curved.obj")),
+              lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))
     for seed in (1, 2):
         check_welded_alike("regions_penny_weld", two_boxes, [penny[:2]], 1 / 20, seed, 0.3 / 20, work)
+        check_cracks("regions_curved_convex_12", two_boxes, [curved], 1 / 12, seed, work, ("--convex",))
     # Not yet: a sheet that reaches an interface, or a front whose skirt (2r) would.
     p = froth("mesh", *two_boxes, "--crack", through[0], "-r", "0.1", "-o", os.path.join(work, "ri.vtu"))
     check(p.returncode == 2 and "interface between regions box_0 and box_1" in p.stderr,

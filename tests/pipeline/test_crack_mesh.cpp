@@ -225,6 +225,69 @@ TEST(CrackMesh, PennyOpensInsideItsFront) {
   });
 }
 
+// Two unit cubes side by side (regions box_0 and box_1, sharing the face x = 1), cut along
+// `sheet` (input/cracked_regions.cpp).
+Domain cracked_regions(const TriangleSurface& sheet, const std::string& name) {
+  const Domain two = load_regions({"box:0,0,0,1,1,1", "box:1,0,0,2,1,1"});
+  std::vector<CrackSheet> sheets{crack_from_surface(sheet, name, two.surface)};
+  conform_crack_sheets(sheets, two.surface);
+  return cut_along_cracks(two, std::move(sheets));
+}
+
+// A penny in the first of two regions: the regions keep one numbering (every solid has every
+// facet, the crack's copies are facets of the first region with nothing in front), and the mesh
+// opens inside the front as in one region, each region's cells summing to its cube.
+TEST(CrackMesh, PennyInOneOfTwoRegions) {
+  const Domain d = cracked_regions(test::square_sheet(0.25, 0.75, 0.3, 0.7, 0.5, 3), "penny");
+  ASSERT_TRUE(d.regions && d.cracks);
+  const RegionSet& set = *d.regions;
+  const size_t facets = set.facet_planes.size();
+  EXPECT_EQ(facets, size_t(d.cracks->plane_begin.back()));
+  EXPECT_LT(size_t(d.cracks->plane_begin[0]), facets);
+  for (size_t f = size_t(d.cracks->plane_begin[0]); f < facets; ++f)
+    EXPECT_EQ(set.facet_sides[f], (std::array<int32_t, 2>{0, -1})) << "facet " << f;
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(set.solids[k].planes.size(), facets);
+    EXPECT_EQ(set.solids[k].surface.vertices.size(), set.boundary.surface.vertices.size());
+    const bool cut = std::any_of(set.solids[k].triangle_plane.begin(), set.solids[k].triangle_plane.end(),
+                                 [&](int32_t p) { return p >= d.cracks->plane_begin[0]; });
+    EXPECT_EQ(cut, k == 0) << "region " << k;
+  }
+  EXPECT_TRUE(std::is_sorted(set.edges.begin(), set.edges.end()));
+  for (double r : {1.0 / 12, 1.0 / 20})
+    for (uint64_t seed : {1, 2}) {
+      SCOPED_TRACE(testing::Message() << "r " << r << " seed " << seed);
+      RunReport run;
+      const PolyMesh m = test::mesh_of(d, r, seed, 2, &run);
+      const MeshCheck structure = check_mesh(m);
+      EXPECT_TRUE(structure.ok()) << structure.first_problem;
+      double in[2] = {0, 0};
+      for (size_t c = 0; c < m.cell_count(); ++c) in[m.region_of(c)] += cell_volume(m, c);
+      EXPECT_NEAR(in[0], 1.0, 1e-9);
+      EXPECT_NEAR(in[1], 1.0, 1e-9);
+      const CrackFaces c = crack_faces(m, "penny", 0.5, {0.25, 0.75, 0.3, 0.7});
+      EXPECT_NEAR(c.area[0], 0.2, 1e-9);
+      EXPECT_NEAR(c.area[1], 0.2, 1e-9);
+      EXPECT_EQ(c.matched_on_sheet, 0u);
+      EXPECT_GT(c.shared_vertices, 0u);
+      EXPECT_EQ(c.shared_off_front, 0u);
+      EXPECT_EQ(run.without_center, 0u);
+    }
+}
+
+// Not yet: a sheet across the interface, and one that only touches it.
+TEST(CrackMesh, SheetOnAnInterfaceIsRefused) {
+  for (double x1 : {1.5, 1.0}) {
+    try {
+      cracked_regions(test::square_sheet(0.5, x1, 0.3, 0.7, 0.5, 3), "across");
+      ADD_FAILURE() << "a sheet to x = " << x1 << " was cut";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::Usage);
+      EXPECT_NE(std::string(e.what()).find("interface between regions box_0 and box_1"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace froth
 

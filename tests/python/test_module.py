@@ -139,6 +139,13 @@ def test_cracks_match_the_command_line(tmp_path):
     penny = froth.mesh(BOX, r=0.1, cracks=sheet.with_name("penny.obj"))  # a front inside the box
     crack = penny.report["cracks"][0]
     assert abs(crack["area_from_a"] - 0.2) < 1e-9 and abs(crack["area_from_b"] - 0.2) < 1e-9
+    # A penny in the first of two regions: the command line's bytes.
+    boxes, penny_path = [BOX, "box:1,0,0,2,1,1"], sheet.with_name("penny.obj")
+    m = froth.mesh(boxes, r=0.1, seed=3, cracks=penny_path)
+    assert m.region_names == ["box_0", "box_1"] and m.crack_names == ["penny"]
+    m.write(tmp_path / "regions_py.vtu")
+    cli("mesh", *boxes, "--crack", penny_path, "-r", "0.1", "--seed", "3", "-q", "-o", tmp_path / "regions_cli.vtu")
+    assert same_bytes(tmp_path / "regions_py.vtu", tmp_path / "regions_cli.vtu")
     # Graded, and convex cells, on a plate cut through: the command line's bytes.
     plate, through = str(MODELS / "plate_holes.STL"), sheet.with_name("plate_through.obj")
     for options, flags in ((dict(grade=True), ["--grade"]), (dict(convex=True), ["--convex"])):
