@@ -62,6 +62,10 @@ class Interfaces {
     const auto q = tree_->closest_point({c.x, c.y, c.z});
     return std::pair{between_[size_t(*hit - triangles_.begin())], Vec3{q.x(), q.y(), q.z()}};
   }
+  // Whether p lies on an interface (within `tol`).
+  bool on(Vec3 p, double tol) const {
+    return tree_ && tree_->squared_distance(InexactKernel::Point_3(p.x, p.y, p.z)) <= tol * tol;
+  }
 
  private:
   std::vector<Triangle> triangles_;
@@ -73,11 +77,19 @@ class Interfaces {
 std::vector<int32_t> regions_of_sheets(const RegionSet& set, const Interfaces& interfaces,
                                        const std::vector<CrackSheet>& sheets) {
   std::vector<int32_t> region;
+  const double tol = 1e-12 * set.boundary.bounds.diagonal();
   for (const CrackSheet& c : sheets) {
     const TriangleSurface& S = c.surface;
     int32_t in = -1;
     for (const auto& t : S.triangles) {
-      if (const auto touch = interfaces.touched_by(S.vertices, t))
+      const auto touch = interfaces.touched_by(S.vertices, t);
+      if (touch && interfaces.on(centroid(S.vertices, t), tol))  // (the input's defect, as a sheet on the boundary)
+        fail(ErrorKind::InvalidInput,
+             fmt::format("crack {} lies on the interface between regions {} and {} near {}: a crack must cross "
+                         "the material, not lie between two regions (a delamination there is the interface itself)",
+                         c.name, set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
+                         at(centroid(S.vertices, t))));
+      if (touch)
         fail(ErrorKind::Usage,
              fmt::format("crack {} meets the interface between regions {} and {} near {}: a crack that reaches an "
                          "interface or crosses it is not supported yet (give a crack inside one region)",

@@ -275,8 +275,19 @@ TEST(CrackMesh, PennyInOneOfTwoRegions) {
     }
 }
 
-// Not yet: a sheet across the interface, and one that only touches it.
+// A sheet lying on the interface is an input defect (exit 3); not yet: a sheet across the
+// interface, and one that only touches it (exit 2).
 TEST(CrackMesh, SheetOnAnInterfaceIsRefused) {
+  TriangleSurface on = test::square_sheet(0.3, 0.7, 0.2, 0.6, 0, 2);
+  for (Vec3& p : on.vertices) p = {1, p.x, p.y};
+  try {
+    cracked_regions(on, "on");
+    ADD_FAILURE() << "a sheet on the interface was cut";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::InvalidInput);
+    EXPECT_NE(std::string(e.what()).find("lies on the interface between regions box_0 and box_1"), std::string::npos)
+        << e.what();
+  }
   for (double x1 : {1.5, 1.0}) {
     try {
       cracked_regions(test::square_sheet(0.5, x1, 0.3, 0.7, 0.5, 3), "across");
