@@ -220,9 +220,11 @@ def random_normal(rng):
 
 
 def region_crack_sheet(rng, part, cells, path):
-    """A penny inside one region of a multi-region part (its files), facing a random way, off the
-    other regions by more than its skirt (2r beyond the front, 2 sqrt(2) r at a corner): cracks
-    that reach an interface are refused (not supported yet), and are not drawn. r is taken above
+    """A crack through a random point of one region of a multi-region part (its files), facing a
+    random way: half the time a through crack reaching past the part on every side (it crosses
+    the interfaces it meets), otherwise a penny inside the region, off the others by more than its
+    skirt (2r beyond the front, 2 sqrt(2) r at a corner): a sheet that ends at an interface, or
+    whose front comes near one, is refused (not supported yet), and is not drawn. r is taken above
     what `cells` gives (bulk packing 0.3841 of disks r/2; the heater's r at 2,000 and 20,000 cells is
     1.13 and 1.05 times that)."""
     regions = [triangles(f) for f in part]
@@ -243,7 +245,11 @@ def region_crack_sheet(rng, part, cells, path):
                 room, centre = d, p
     if centre is None:
         return False
-    square_sheet(path, centre, (0.3 + 0.7 * rng.random()) * room / math.sqrt(2), random_normal(rng))
+    if rng.random() < 0.5:  # across every region it meets, reaching past the part on every side
+        lo, hi = bounds([t for tris in regions for t in tris])
+        square_sheet(path, centre, math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3))), random_normal(rng))
+    else:
+        square_sheet(path, centre, (0.3 + 0.7 * rng.random()) * room / math.sqrt(2), random_normal(rng))
     return True
 
 

@@ -21,6 +21,10 @@ namespace froth {
 
 struct CrackSet {
   std::vector<CrackSheet> sheets;
+  // A multi-region solid's: each sheet's part in each region it crosses (the sheet itself where it
+  // lies in one), whose lines on the interfaces are curves the sheet's seeds protect. Empty: the
+  // sheets.
+  std::vector<CrackSheet> pieces;
   // The solid as it was before the cut (its feature size and reports are of it).
   Domain solid;
   // Per sheet, the facet planes of its copy facing side a, then those facing side b:

@@ -9,6 +9,8 @@
 // cut along the same line and doubled alike there, which is not built yet (refused, exit 2).
 #include <algorithm>
 #include <map>
+#include <optional>
+#include <set>
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -19,6 +21,7 @@
 #include "froth/error.hpp"
 #include "input/cgal_meshes.hpp"
 #include "input/cracked_domain.hpp"
+#include "input/cracks.hpp"
 
 namespace froth {
 namespace {
@@ -73,41 +76,79 @@ class Interfaces {
   std::optional<Tree> tree_;
 };
 
-// The region each sheet lies in, refusing a sheet that touches an interface or lies in several.
-std::vector<int32_t> regions_of_sheets(const RegionSet& set, const Interfaces& interfaces,
-                                       const std::vector<CrackSheet>& sheets) {
-  std::vector<int32_t> region;
+// A sheet's part in one region (the sheet itself where it lies in one).
+struct Piece {
+  CrackSheet sheet;
+  size_t of;       // the sheet's index
+  int32_t region;
+};
+
+// The pieces of the sheets, region by region. A sheet that lies on an interface is refused
+// (InvalidInput); one that reaches an interface without crossing it, or that crosses an
+// interface and another sheet, is not supported yet (Usage). A sheet that crosses interfaces is
+// clipped to each region it enters, and each of its lines on an interface must be a line of the
+// pieces on both sides.
+std::vector<Piece> pieces_of_sheets(const RegionSet& set, const Interfaces& interfaces,
+                                    const std::vector<CrackSheet>& sheets) {
+  std::vector<Piece> pieces;
   const double tol = 1e-12 * set.boundary.bounds.diagonal();
-  for (const CrackSheet& c : sheets) {
+  for (size_t i = 0; i < sheets.size(); ++i) {
+    const CrackSheet& c = sheets[i];
     const TriangleSurface& S = c.surface;
-    int32_t in = -1;
+    std::optional<std::pair<std::array<int32_t, 2>, Vec3>> touch;
+    std::set<int32_t> in;
     for (const auto& t : S.triangles) {
-      const auto touch = interfaces.touched_by(S.vertices, t);
-      if (touch && interfaces.on(centroid(S.vertices, t), tol))  // (the input's defect, as a sheet on the boundary)
-        fail(ErrorKind::InvalidInput,
-             fmt::format("crack {} lies on the interface between regions {} and {} near {}: a crack must cross "
-                         "the material, not lie between two regions (a delamination there is the interface itself)",
-                         c.name, set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
-                         at(centroid(S.vertices, t))));
-      if (touch)
-        fail(ErrorKind::Usage,
-             fmt::format("crack {} meets the interface between regions {} and {} near {}: a crack that reaches an "
-                         "interface or crosses it is not supported yet (give a crack inside one region)",
-                         c.name, set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
-                         at(touch->second)));
-      const Vec3 p = centroid(S.vertices, t);
-      int32_t here = -1;
-      for (size_t k = 0; k < set.size() && here < 0; ++k)
-        if (set.solids[k].contains(p)) here = int32_t(k);
-      if (here < 0) fail(ErrorKind::Internal, fmt::format("crack {}: its point {} lies in no region", c.name, at(p)));
-      if (in >= 0 && here != in)
-        fail(ErrorKind::Usage, fmt::format("crack {} lies in regions {} and {}: give one crack per region", c.name,
-                                           set.names[size_t(in)], set.names[size_t(here)]));
-      in = here;
+      const Vec3 m = centroid(S.vertices, t);
+      if (const auto here = interfaces.touched_by(S.vertices, t)) {
+        const bool on = interfaces.on(m, tol) && interfaces.on(S.vertices[size_t(t[0])], tol) &&
+                        interfaces.on(S.vertices[size_t(t[1])], tol) && interfaces.on(S.vertices[size_t(t[2])], tol);
+        if (on)  // (the input's defect, as a sheet on the boundary)
+          fail(ErrorKind::InvalidInput,
+               fmt::format("crack {} lies on the interface between regions {} and {} near {}: a crack must cross "
+                           "the material, not lie between two regions (a delamination there is the interface itself)",
+                           c.name, set.names[size_t(here->first[0])], set.names[size_t(here->first[1])], at(m)));
+        touch = here;
+      }
+      for (const Vec3 p : {m, S.vertices[size_t(t[0])], S.vertices[size_t(t[1])], S.vertices[size_t(t[2])]})
+        for (size_t k = 0; k < set.size(); ++k)
+          if (set.solids[k].contains(p)) in.insert(int32_t(k));
     }
-    region.push_back(in);
+    if (in.empty()) fail(ErrorKind::Internal, fmt::format("crack {} lies in no region", c.name));
+    if (!touch) {
+      pieces.push_back({c, i, *in.begin()});
+      continue;
+    }
+    const std::string between = fmt::format("the interface between regions {} and {} near {}",
+                                            set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
+                                            at(touch->second));
+    if (!c.on_sheets.empty() || c.conformed)
+      fail(ErrorKind::Usage, fmt::format("crack {} crosses another crack and {}: a crack crossing both is not "
+                                         "supported yet",
+                                         c.name, between));
+    const std::string ends = fmt::format("crack {} ends at {}: a crack that reaches an interface without crossing "
+                                         "it is not supported yet (extend it across, or keep it inside one region)",
+                                         c.name, between);
+    if (in.size() < 2) fail(ErrorKind::Usage, ends);
+    // Each line on an interface, by its rounded ends, in how many pieces.
+    std::map<std::array<double, 6>, int> lines;
+    for (int32_t k : in) {
+      Piece p{c, i, k};
+      clip_crack_again(p.sheet, ExactSurface{to_cgal_mesh<ExactMesh>(set.solids[size_t(k)].surface)},
+                       set.solids[size_t(k)].surface);
+      const auto& V = p.sheet.surface.vertices;
+      for (const auto& e : p.sheet.on_boundary) {
+        const Vec3 a = V[size_t(e[0])], b = V[size_t(e[1])];
+        if (!interfaces.on(a, tol) || !interfaces.on(b, tol) || !interfaces.on(0.5 * (a + b), tol)) continue;
+        std::array<double, 6> key{a.x, a.y, a.z, b.x, b.y, b.z};
+        if (std::tie(b.x, b.y, b.z) < std::tie(a.x, a.y, a.z)) key = {b.x, b.y, b.z, a.x, a.y, a.z};
+        ++lines[key];
+      }
+      pieces.push_back(std::move(p));
+    }
+    for (const auto& [line, count] : lines)
+      if (count != 2) fail(ErrorKind::Usage, ends);
   }
-  return region;
+  return pieces;
 }
 
 // Plane f of a region's solid, oriented out of it (as RegionSet::solids hold them).
@@ -123,67 +164,68 @@ std::vector<Plane> planes_out_of(const RegionSet& set, int32_t k) {
 Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> sheets, double r) {
   const RegionSet& R = *whole.regions;
   const Interfaces interfaces(R);
-  const std::vector<int32_t> region_of = regions_of_sheets(R, interfaces, sheets);
+  std::vector<Piece> pieces = pieces_of_sheets(R, interfaces, sheets);
   const std::vector<Vec3>& V0 = R.boundary.surface.vertices;
   const size_t n0 = V0.size();
   const int32_t facets = int32_t(R.facet_planes.size());
   for (const Domain& d : R.solids)
     if (d.surface.vertices.size() != n0) fail(ErrorKind::Internal, "regions that do not share their vertices");
 
-  // Each region with sheets cut as a solid of its own: its facets are the region set's, its new
+  // Each region with pieces cut as a solid of its own: its facets are the region set's, its new
   // vertices and crack planes numbered after them.
   struct Cut {
     Domain d;
-    std::vector<size_t> sheets;  // input indices, in the cut's order
+    std::vector<size_t> pieces;  // indices in `pieces`, in the cut's order
   };
   std::vector<std::optional<Cut>> cuts(R.size());
+  std::vector<std::array<int32_t, 2>> where(pieces.size());  // (region, index in its cut)
   for (size_t k = 0; k < R.size(); ++k) {
     Cut c;
     std::vector<CrackSheet> mine;
-    for (size_t i = 0; i < sheets.size(); ++i)
-      if (region_of[i] == int32_t(k)) c.sheets.push_back(i), mine.push_back(sheets[i]);
+    for (size_t q = 0; q < pieces.size(); ++q)
+      if (pieces[q].region == int32_t(k))
+        where[q] = {int32_t(k), int32_t(c.pieces.size())}, c.pieces.push_back(q), mine.push_back(pieces[q].sheet);
     if (mine.empty()) continue;
     c.d = cut_along_cracks(R.solids[k], std::move(mine), r);
     cuts[k] = std::move(c);
   }
+  auto local_of = [&](size_t q) -> const CrackSet& { return *cuts[size_t(where[q][0])]->d.cracks; };
 
-  // Global numbers: vertices after the shared ones region by region; crack planes sheet by sheet
-  // in the input's order, side a's then side b's.
+  // Crack planes sheet by sheet in the input's order: its pieces' copies facing side a, then
+  // those facing side b, each piece's in its cut's order.
   auto set = std::make_shared<CrackSet>();
   auto out = std::make_shared<RegionSet>(R);
-  std::vector<Vec3> V = V0;
-  std::vector<std::vector<int32_t>> vertex_of(R.size()), plane_of(R.size());
-  std::vector<int32_t> base(sheets.size()), count(sheets.size());
-  std::vector<std::array<int, 2>> where(sheets.size());  // (region, index in its cut)
-  for (size_t k = 0; k < R.size(); ++k)
-    if (cuts[k])
-      for (size_t j = 0; j < cuts[k]->sheets.size(); ++j) where[cuts[k]->sheets[j]] = {int(k), int(j)};
+  std::vector<int32_t> a_first(pieces.size()), b_first(pieces.size());
   set->plane_begin = {facets};
   for (size_t i = 0; i < sheets.size(); ++i) {
-    const CrackSet& local = *cuts[size_t(where[i][0])]->d.cracks;
-    const size_t j = size_t(where[i][1]);
-    count[i] = local.plane_middle[j] - local.plane_begin[j];
-    base[i] = set->plane_begin.back();
-    set->plane_middle.push_back(base[i] + count[i]);
-    set->plane_begin.push_back(base[i] + 2 * count[i]);
+    const int32_t base = set->plane_begin.back();
+    int32_t n = 0;
+    for (size_t q = 0; q < pieces.size(); ++q)
+      if (pieces[q].of == i) {
+        const CrackSet& local = local_of(q);
+        const size_t j = size_t(where[q][1]);
+        a_first[q] = base + n;
+        n += local.plane_middle[j] - local.plane_begin[j];
+      }
+    for (size_t q = 0; q < pieces.size(); ++q)
+      if (pieces[q].of == i) b_first[q] = a_first[q] + n;
+    set->plane_middle.push_back(base + n);
+    set->plane_begin.push_back(base + 2 * n);
   }
   out->facet_planes.resize(size_t(set->plane_begin.back()));
   out->facet_sides.resize(size_t(set->plane_begin.back()));
+  std::vector<std::vector<int32_t>> plane_of(R.size());
   for (size_t k = 0; k < R.size(); ++k) {
     if (!cuts[k]) continue;
     const Domain& d = cuts[k]->d;
     const CrackSet& local = *d.cracks;
-    vertex_of[k].resize(d.surface.vertices.size());
-    for (size_t v = 0; v < vertex_of[k].size(); ++v) {
-      if (v < n0) vertex_of[k][v] = int32_t(v);
-      else vertex_of[k][v] = int32_t(V.size()), V.push_back(d.surface.vertices[v]);
-    }
     plane_of[k].resize(d.planes.size());
     for (int32_t p = 0; p < facets; ++p) plane_of[k][size_t(p)] = p;
-    for (size_t j = 0; j < cuts[k]->sheets.size(); ++j) {
-      const size_t i = cuts[k]->sheets[j];
+    for (size_t j = 0; j < cuts[k]->pieces.size(); ++j) {
+      const size_t q = cuts[k]->pieces[j];
       for (int32_t p = local.plane_begin[j]; p < local.plane_begin[j + 1]; ++p) {
-        const int32_t g = base[i] + (p - local.plane_begin[j]);
+        const int32_t g = p < local.plane_middle[j] ? a_first[q] + (p - local.plane_begin[j])
+                                                    : b_first[q] + (p - local.plane_middle[j]);
         plane_of[k][size_t(p)] = g;
         out->facet_planes[size_t(g)] = d.planes[size_t(p)];  // (out of region k: k behind, nothing in front)
         out->facet_sides[size_t(g)] = {int32_t(k), -1};
@@ -193,6 +235,42 @@ Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> she
       set->extension_planes.push_back({plane_of[k][size_t(a)], plane_of[k][size_t(b)]});
   }
   std::sort(set->extension_planes.begin(), set->extension_planes.end());
+  auto sheet_of_plane = [&](int32_t g) {
+    return size_t(std::upper_bound(set->plane_begin.begin(), set->plane_begin.end(), g) - set->plane_begin.begin()) - 1;
+  };
+  std::vector<uint8_t> is_extension(size_t(set->plane_begin.back()), 0);
+  for (const auto& [a, b] : set->extension_planes) is_extension[size_t(a)] = is_extension[size_t(b)] = 1;
+
+  // Vertices: the shared ones keep their ids; the cuts' new ones follow, one id per point and
+  // crack sides it bounds (a point of a sheet's line on an interface is cut in both regions, its
+  // copy on each side of the sheet the same in both).
+  std::vector<Vec3> V = V0;
+  std::vector<std::vector<int32_t>> vertex_of(R.size());
+  std::map<std::pair<std::array<double, 3>, std::vector<int32_t>>, int32_t> new_id;
+  for (size_t k = 0; k < R.size(); ++k) {
+    if (!cuts[k]) continue;
+    const Domain& d = cuts[k]->d;
+    std::vector<std::vector<int32_t>> sides(d.surface.vertices.size());  // 2 sheet + side
+    for (size_t t = 0; t < d.surface.triangles.size(); ++t)
+      if (const int32_t p = d.triangle_plane[t]; p >= facets) {
+        const int32_t g = plane_of[k][size_t(p)];
+        const size_t i = sheet_of_plane(g);
+        for (int32_t v : d.surface.triangles[t]) sides[size_t(v)].push_back(int32_t(2 * i) + (g >= set->plane_middle[i]));
+      }
+    vertex_of[k].resize(d.surface.vertices.size());
+    for (size_t v = 0; v < vertex_of[k].size(); ++v) {
+      if (v < n0) {
+        vertex_of[k][v] = int32_t(v);
+        continue;
+      }
+      std::sort(sides[v].begin(), sides[v].end());
+      sides[v].erase(std::unique(sides[v].begin(), sides[v].end()), sides[v].end());
+      const Vec3 x = d.surface.vertices[v];
+      const auto [it, added] = new_id.try_emplace({{x.x, x.y, x.z}, std::move(sides[v])}, int32_t(V.size()));
+      if (added) V.push_back(x);
+      vertex_of[k][v] = it->second;
+    }
+  }
 
   // The boundary's patches: the union's, then each crack's sides (and its skirt's, glued: on no face).
   Domain boundary = R.boundary;
@@ -205,19 +283,11 @@ Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> she
     B.patch_names.push_back(fmt::format("crack_{}_b", sheets[i].name));
     crack_patch[i] = {a, a + 1, -1};
     set->patches.push_back({a, a + 1});
-    const CrackSet& local = *cuts[size_t(where[i][0])]->d.cracks;
-    const size_t j = size_t(where[i][1]);
-    const bool skirted = std::any_of(local.extension_planes.begin(), local.extension_planes.end(), [&](const auto& e) {
-      return e[0] >= local.plane_begin[j] && e[0] < local.plane_begin[j + 1];
+    const bool skirted = std::any_of(set->extension_planes.begin(), set->extension_planes.end(), [&](const auto& e) {
+      return e[0] >= set->plane_begin[i] && e[0] < set->plane_begin[i + 1];
     });
     if (skirted) crack_patch[i][2] = int32_t(B.patch_names.size()), B.patch_names.push_back(fmt::format("crack_{}_extension", sheets[i].name));
   }
-  auto sheet_of_plane = [&](int32_t g) {
-    const size_t i = size_t(std::upper_bound(set->plane_begin.begin(), set->plane_begin.end(), g) - set->plane_begin.begin()) - 1;
-    return i;
-  };
-  std::vector<uint8_t> is_extension(size_t(set->plane_begin.back()), 0);
-  for (const auto& [a, b] : set->extension_planes) is_extension[size_t(a)] = is_extension[size_t(b)] = 1;
 
   // The boundary: the uncut regions' triangles as they were, then each cut region's that are not
   // on an interface, crack copies included.
@@ -253,7 +323,7 @@ Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> she
       if (crack) {
         const size_t i = sheet_of_plane(plane);
         const int side = plane < set->plane_middle[i] ? 0 : 1;
-        if (const auto touch = interfaces.touched_by(V, tri))  // (the sheet was not: its skirt)
+        if (const auto touch = is_extension[size_t(plane)] ? interfaces.touched_by(V, tri) : std::nullopt)
           fail(ErrorKind::Usage,
                fmt::format("crack {}: its front comes within 2r = {:.6g} of the interface between regions {} and {} "
                            "near {}; the cells at a front are split by the sheet extended 2r beyond it, and that "
@@ -301,6 +371,7 @@ Domain cut_regions_along_cracks(const Domain& whole, std::vector<CrackSheet> she
 
   set->fronts = std::any_of(sheets.begin(), sheets.end(), [](const CrackSheet& c) { return !c.front.empty(); });
   set->skirt_r = set->fronts ? r : 0;
+  for (Piece& p : pieces) set->pieces.push_back(std::move(p.sheet));
   set->sheets = std::move(sheets);
   set->solid = whole;
   Domain d = whole;

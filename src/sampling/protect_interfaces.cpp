@@ -329,7 +329,8 @@ namespace {
 void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSeeds& p, SamplingStats& stats,
                      const std::function<double(Vec3)>& h, double lipschitz) {
   InterfaceProtectionStats cs;
-  ProtectionSeeds q = protect_cracks(domain.cracks->sheets, r, seed, p.points, &cs, h, lipschitz);
+  const CrackSet& set = *domain.cracks;
+  ProtectionSeeds q = protect_cracks(set.pieces.empty() ? set.sheets : set.pieces, r, seed, p.points, &cs, h, lipschitz);
   const size_t solid_planes = size_t(domain.cracks->plane_begin[0]);  // the sheets' come after
   // (A corner seed lies 1e-7 r off its corner, along the sheets' sides a: that far from the
   // surface too where they cross it at a slant.)
@@ -345,6 +346,20 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
       if (plane >= solid_planes) continue;
       const Plane& pl = domain.planes[plane];
       if (std::abs(dot(pl.normal, x) - pl.offset) <= near) in = in - pl.normal;
+    }
+    // On a sheet's line on an interface (a sheet crossing it): into the first region there.
+    if (const RegionSet* regions = set.solid.regions.get()) {
+      Vec3 into{};
+      for (size_t region = 0; region < regions->size() && norm2(into) == 0; ++region) {
+        const Domain& solid = regions->solids[region];
+        solid.locator->triangles_near(x - reach, x + reach, tris);
+        for (int32_t t : tris) {
+          const int32_t f = solid.triangle_plane[size_t(t)];
+          const Plane& pl = solid.planes[size_t(f)];
+          if (regions->is_interface(f) && std::abs(dot(pl.normal, x) - pl.offset) <= near) into = -1.0 * pl.normal;
+        }
+      }
+      in = in + into;
     }
     if (norm2(in) > 0) q.inward[k] = unit(q.inward[k] + unit(in));
   }

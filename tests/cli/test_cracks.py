@@ -275,10 +275,37 @@ def main():
     for seed in (1, 2):
         check_welded_alike("regions_penny_weld", two_boxes, [penny[:2]], 1 / 20, seed, 0.3 / 20, work)
         check_cracks("regions_curved_convex_12", two_boxes, [curved], 1 / 12, seed, work, ("--convex",))
-    # Not yet: a sheet that reaches an interface, or a front whose skirt (2r) would.
-    p = froth("mesh", *two_boxes, "--crack", through[0], "-r", "0.1", "-o", os.path.join(work, "ri.vtu"))
-    check(p.returncode == 2 and "interface between regions box_0 and box_1" in p.stderr,
-          f"a crack across an interface: exit {p.returncode}: {p.stderr}")
+    # Across the interface: a through crack of both cubes (z = 0.41), and a crack from the face
+    # x = 0 across the interface to its front at x = 1.55 (y = 0.63), each region cut along its part.
+    def quad(name, corners):
+        path = os.path.join(work, name + ".obj")
+        with open(path, "w") as f:
+            f.write("".join("v %r %r %r\n" % c for c in corners) + "f 1 2 3\nf 1 3 4\n")
+        return path
+    across = (quad("across", [(-0.2, -0.1, 0.41), (2.3, -0.1, 0.41), (2.3, 1.2, 0.41), (-0.2, 1.2, 0.41)]), "across",
+              on_sheet_plane((0, 0, 1), 0.41), up, nowhere)
+    deep = (quad("deep", [(-0.2, 0.63, -0.1), (-0.2, 0.63, 1.1), (1.55, 0.63, 1.1), (1.55, 0.63, -0.1)]), "deep",
+            on_sheet_plane((0, 1, 0), 0.63, (0, 0, 0), (1.55, 1, 1)), lambda p: (0, 1, 0),
+            lambda p: abs(p[0] - 1.55) < 1e-9)
+    for label, sheets in (("regions_across", [across]), ("regions_deep", [deep])):
+        for fraction in (12, 20):
+            for seed in (1, 2):
+                check_cracks(f"{label}_{fraction}", two_boxes, sheets, 1 / fraction, seed, work)
+    for seed in (1, 2):
+        check_welded_alike("regions_across_weld", two_boxes, [across[:2]], 1 / 20, seed, 0.3 / 20, work)
+    # Not yet: a sheet that ends at an interface, one whose front crosses it, or a front whose
+    # skirt (2r) would reach it; a sheet lying on one is the input's defect.
+    p = froth("mesh", *two_boxes, "--crack", quad("ends", [(-0.2, 0.2, 0.5), (1, 0.2, 0.5), (1, 0.8, 0.5), (-0.2, 0.8, 0.5)]),
+              "-r", "0.1", "-o", os.path.join(work, "ri.vtu"))
+    check(p.returncode == 2 and "ends at the interface between regions box_0 and box_1" in p.stderr,
+          f"a crack ending at an interface: exit {p.returncode}: {p.stderr}")
+    p = froth("mesh", *two_boxes, "--crack", quad("tip", [(0.6, 0.2, 0.5), (1.4, 0.2, 0.5), (1.4, 0.8, 0.5), (0.6, 0.8, 0.5)]),
+              "-r", "0.05", "-o", os.path.join(work, "rt.vtu"))
+    check(p.returncode == 2 and "within 2r = 0.1 of the interface" in p.stderr,
+          f"a penny across an interface: exit {p.returncode}: {p.stderr}")
+    p = froth("mesh", *two_boxes, "--crack", quad("on", [(1, 0.2, 0.2), (1, 0.8, 0.2), (1, 0.8, 0.8), (1, 0.2, 0.8)]),
+              "-r", "0.1", "-o", os.path.join(work, "ro.vtu"))
+    check(p.returncode == 3 and "lies on the interface" in p.stderr, f"a crack on an interface: exit {p.returncode}: {p.stderr}")
     p = froth("mesh", *two_boxes, "--crack", penny[0], "-r", "0.15", "-o", os.path.join(work, "rs.vtu"))
     check(p.returncode == 2 and "within 2r = 0.3 of the interface" in p.stderr,
           f"a front 0.25 from an interface at r = 0.15: exit {p.returncode}: {p.stderr}")

@@ -84,12 +84,16 @@ with open(crossing[0], "w") as f:
     f.write("v -0.1 -0.1 0.73\nv 1.1 -0.1 0.73\nv 1.1 1.1 0.73\nv -0.1 1.1 0.73\nf 1 2 3\nf 1 3 4\n")
 with open(crossing[1], "w") as f:
     f.write("v 0.61 0.23 0.41\nv 0.61 0.77 0.41\nv 0.61 0.77 1.09\nv 0.61 0.23 1.09\nf 1 2 3\nf 1 3 4\n")
-# And two regions side by side, a penny in the first (its front 0.3 from the interface).
-penny = os.path.join(tmp, "penny_z.obj")
+# And two regions side by side, a penny in the first (its front 0.3 from the interface) and a
+# through crack across both (z = 0.41).
+penny, across = os.path.join(tmp, "penny_z.obj"), os.path.join(tmp, "across_z.obj")
 with open(penny, "w") as f:
     f.write("v 0.2 0.3 0.75\nv 0.7 0.3 0.75\nv 0.7 0.7 0.75\nv 0.2 0.7 0.75\nf 1 2 3\nf 1 3 4\n")
+with open(across, "w") as f:
+    f.write("v -0.1 -0.1 0.41\nv 2.1 -0.1 0.41\nv 2.1 1.1 0.41\nv -0.1 1.1 0.41\nf 1 2 3\nf 1 3 4\n")
 for name, domain, r, extra in (("box", "box:0,0,0,1,1,1.5", "0.05", []),
-                               ("two_boxes_cracked", ["box:0,0,0,1,1,1.5", "box:1,0,0,2,1,1.5"], "0.05", ["--crack", penny]),
+                               ("two_boxes_cracked", ["box:0,0,0,1,1,1.5", "box:1,0,0,2,1,1.5"], "0.05",
+                                ["--crack", penny, "--crack", across]),
                                ("box_crossing_cracks", "box:0,0,0,1,1,1.5", "0.05",
                                 ["--crack", crossing[0], "--crack", crossing[1]]),
                                ("7_8ths", os.path.join(MODELS, "7_8ths_cube.stl"), "2", []),
