@@ -322,6 +322,15 @@ def run_trial(froth, work, k, part, options, check, timeout):
     problems = []
     if rc == 0 and check:
         problems = check(vtu)[-5:]
+        # The report's sums: the cells' volume is the domain's, each crack's faces on each side its area.
+        run = json.load(open(report))
+        volume = run["volume"]
+        if abs(volume["cells_sum"] - volume["domain"]) > 1e-9 * volume["domain"]:
+            problems.append("report: cells' volume %r against the domain's %r" % (volume["cells_sum"], volume["domain"]))
+        for c in run.get("cracks", []):
+            for side in "ab":
+                if abs(c["area_from_" + side] - c["area"]) > 1e-9 * c["area"]:
+                    problems.append("report: crack %s side %s %r against %r" % (c["name"], side, c["area_from_" + side], c["area"]))
     for f in (vtu, report):
         if os.path.exists(f):
             os.remove(f)

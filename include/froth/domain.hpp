@@ -167,8 +167,8 @@ Domain load_regions(const std::vector<std::string>& inputs, const DomainOptions&
 // faces twice, on patches crack_NAME_a and crack_NAME_b, sharing vertices only along the front.
 // A sheet may reach the solid's surface (a through or edge crack), be closed (a lens) or end
 // inside the solid (a penny: the cells at its front are split there when the mesh is made, at
-// its r). Sheets may cross; in a multi-region solid each must lie inside one region, off its
-// interfaces (Usage otherwise, not supported yet). Throws Error:
+// its r). Sheets may cross each other, and in a multi-region solid cross interfaces (not end
+// at one, nor have a front within 2r of one: Usage, not supported yet). Throws Error:
 // InvalidInput naming the defect and a point (see input/cracks.hpp), Usage for what is not
 // supported.
 Domain load_cracks(const Domain& solid, const std::vector<std::string>& sheets, const DomainOptions& options = {});

@@ -63,8 +63,8 @@ def mesh(surface, r=None, *, cells=None, seed=0, weld=None, quality=True, thread
     feature_angle, repair: how a surface file is read (as --feature-angle and --repair).
     convex: split every non-convex cell into convex pieces (cell data "parent"; no welding).
     cracks: sheet files (or one) the solid is cut open along, as --crack (through, edge and penny
-        cracks, closed sheets, crossing sheets; in a multi-region solid, each inside one region, off
-        its interfaces); their faces are on patches crack_NAME_a and crack_NAME_b.
+        cracks, closed sheets, crossing sheets; in a multi-region solid, inside a region or across
+        interfaces); their faces are on patches crack_NAME_a and crack_NAME_b.
     """
     if (r is None) == (cells is None):
         raise UsageError("give r= (the sampling radius) or cells= (about this many cells), not both" if r is not None

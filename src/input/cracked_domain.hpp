@@ -50,10 +50,10 @@ struct CrackSet {
 // A multi-region solid (`solid.regions` set) is cut region by region (cut_regions_along_cracks).
 Domain cut_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r = 0);
 
-// A multi-region solid cut along sheets that each lie in one region, off the interfaces
-// (input/cracked_regions.cpp): the domain's regions are the cut regions, numbered alike, and its
-// surface is their union's boundary with the crack copies. Throws Error(Usage) for a sheet that
-// meets an interface (or whose front's skirt does) or lies in two regions.
+// A multi-region solid cut along its sheets region by region (input/cracked_regions.cpp): the
+// domain's regions are the cut regions, numbered alike, and its surface is their union's boundary
+// with the crack copies. Throws Error(InvalidInput) for a sheet lying on an interface, Usage for
+// one that ends at an interface, crosses one and another sheet, or whose front's skirt meets one.
 Domain cut_regions_along_cracks(const Domain& solid, std::vector<CrackSheet> sheets, double r);
 
 // For each triangle of `cut` (a surface split from `whole`, as a corefinement or a clip splits

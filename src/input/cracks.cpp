@@ -193,13 +193,20 @@ void merge_rounded_alike(TriangleSurface& s) {
 // sheet corefined with others): CGAL clips the open sheet by the closed surface (exact), keeping
 // what lies on the surface too, which is then refused. Sets surface, area, clipped_at and the
 // free edges.
-void clip_to_solid(CrackSheet& crack, ExactMesh cut, ExactMesh clipper, const TriangleSurface& solid) {
+// `nothing_inside`: set, and the crack left as it is, where nothing of it is inside (instead of
+// refusing it).
+void clip_to_solid(CrackSheet& crack, ExactMesh cut, ExactMesh clipper, const TriangleSurface& solid,
+                   bool* nothing_inside = nullptr) {
   const std::string& name = crack.name;
   const TriangleSurface& s = crack.given;
   PMP::clip(cut, clipper, CGAL::parameters::clip_volume(false), CGAL::parameters::do_not_modify(true));
-  crack.surface = from_exact_mesh(cut);
-  merge_rounded_alike(crack.surface);
-  crack.area = area_of(crack.surface);
+  TriangleSurface inside = from_exact_mesh(cut);
+  merge_rounded_alike(inside);
+  const double area = area_of(inside);
+  if (nothing_inside) *nothing_inside = inside.triangles.empty() || !(area > 1e-12 * crack.input_area);
+  if (nothing_inside && *nothing_inside) return;
+  crack.surface = std::move(inside);
+  crack.area = area;
   if (crack.surface.triangles.empty() || !(crack.area > 1e-12 * crack.input_area))
     bad(name, fmt::format("it lies outside the solid (its first vertex is at {}): a crack must be inside the part",
                           at(s.vertices.empty() ? Vec3{} : s.vertices[0])));
@@ -250,14 +257,17 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
   return crack;
 }
 
-void clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid) {
+bool clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid, bool may_miss) {
   using Point = std::array<double, 3>;
   std::vector<std::array<Point, 2>> crossings;
   for (const auto& e : crack.on_sheets) {
     const Vec3 a = crack.surface.vertices[size_t(e[0])], b = crack.surface.vertices[size_t(e[1])];
     crossings.push_back({Point{a.x, a.y, a.z}, Point{b.x, b.y, b.z}});
   }
-  clip_to_solid(crack, crack.conformed ? crack.conformed->mesh : to_cgal_mesh<ExactMesh>(crack.given), surface.mesh, solid);
+  bool missed = false;
+  clip_to_solid(crack, crack.conformed ? crack.conformed->mesh : to_cgal_mesh<ExactMesh>(crack.given), surface.mesh, solid,
+                may_miss ? &missed : nullptr);
+  if (missed) return false;
   std::map<Point, int32_t> id;
   for (size_t v = 0; v < crack.surface.vertices.size(); ++v) {
     const Vec3 p = crack.surface.vertices[v];
@@ -271,6 +281,7 @@ void clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const Tria
                                             crack.name, a[0], a[1], a[2]));
     crack.on_sheets.push_back({ia->second, ib->second});
   }
+  return true;
 }
 
 CrackSheet load_crack(const std::string& path, const TriangleSurface& solid, const DomainOptions& options, Vec3 origin) {

@@ -57,8 +57,9 @@ CrackSheet crack_from_surface(const TriangleSurface& sheet, const std::string& n
 // `crack` clipped again from its sheet (as conformed), to `surface`: the solid's surface after
 // other sheets were cut into it, whose edges cross this sheet's line on it at more points (the
 // cut needs the sheet's edges along the line to be the surface's). `solid` is the same surface
-// as given, to find the lines.
-void clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid);
+// as given, to find the lines. With `may_miss`, a sheet with nothing inside `surface` is left as
+// it was and false returned (otherwise refused, as load_crack refuses it).
+bool clip_crack_again(CrackSheet& crack, const ExactSurface& surface, const TriangleSurface& solid, bool may_miss = false);
 
 // Sheets that cross (a branching crack) made to share the curve where they cross: the sheets as
 // given are corefined with every other they meet (CGAL, exact constructions) and clipped to
