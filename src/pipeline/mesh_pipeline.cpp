@@ -119,9 +119,9 @@ FeatureSize measure_features(const Domain& domain, const MeshOptions& opt, RunRe
 SizingField sizing_field(const Domain& domain, const FeatureSize& fs, const MeshOptions& opt, RunReport& run,
                          Stopwatch& watch) {
   if (!opt.grade || fs.thickness.empty()) return SizingField::uniform(opt.r);
-  // A multi-region solid's regions are measured too: a layer thinner than 2r between two
+  // A cut solid's walls are the solid's (measure_features): the field is fitted to it too. A
+  // multi-region solid's regions are measured too: a layer thinner than 2r between two
   // interfaces needs h below it as a wall does, or its cells would reach across it.
-  // A cut solid's walls are the solid's (measure_features): the field is fitted to it too.
   const Domain& measured = domain.cracks ? domain.cracks->solid : domain;
   std::vector<FeatureSize> region_fs;
   std::vector<SizingField::Measured> regions;

@@ -331,7 +331,7 @@ void add_crack_seeds(const Domain& domain, double r, uint64_t seed, ProtectionSe
   InterfaceProtectionStats cs;
   const CrackSet& set = *domain.cracks;
   ProtectionSeeds q = protect_cracks(set.pieces.empty() ? set.sheets : set.pieces, r, seed, p.points, &cs, h, lipschitz);
-  const size_t solid_planes = size_t(domain.cracks->plane_begin[0]);  // the sheets' come after
+  const size_t solid_planes = size_t(set.plane_begin[0]);  // the sheets' come after
   // (A corner seed lies 1e-7 r off its corner, along the sheets' sides a: that far from the
   // surface too where they cross it at a slant.)
   const double near = std::max(1e-9 * domain.bounds.diagonal(), 2e-7 * r);

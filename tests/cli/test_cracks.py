@@ -1,14 +1,16 @@
 """Cracks (issue 38), read back by readers that are not froth: a through crack in the unit box and
 across plate_holes.STL (a real part, the crack's line on its surface running round its holes), a
 closed sheet (a lens), a penny (a front all round inside the solid), an edge crack (a front from
-face to face), a curved crack and two crossing through cracks in the box, at r = 1/12 and 1/20 of
+face to face), a curved crack and two crossing through cracks in the box; in two cubes side by side
+(a multi-region solid) cracks inside the first and across the interface; at r = 1/12 and 1/20 of
 the solid's size and seeds 1 and 2. Checked on each mesh (VTK), for each sheet:
 - the report's crack faces on each side sum to the sheet's area inside the solid (1e-9), and so do
   the --boundary file's faces on patches crack_NAME_a and crack_NAME_b;
 - no face of two cells lies on the sheet; the faces of the two sides share points only on the front;
 - every cell has a kernel (none slit by the front), where the solid has no feature thinner than r;
-- the cells' volumes sum to the solid's (1e-9); every cell closed and interior face matched (the
-  summary's line).
+- the cells' volumes sum to the solid's (1e-9), each region's to its own and each interface's
+  faces to its area from both sides; every cell closed and interior face matched (the summary's
+  line).
 Then: checkMesh on the box's polyMesh (the crack's two sides as two patches), the Exodus file's
 side sets, an ensemble of two members, and a sheet with three triangles on an edge (exit 3).
 Usage: test_cracks.py FROTH MODELS_DIR CRACKS_DIR"""
@@ -282,17 +284,17 @@ def main():
         with open(path, "w") as f:
             f.write("".join("v %r %r %r\n" % c for c in corners) + "f 1 2 3\nf 1 3 4\n")
         return path
-    across = (quad("across", [(-0.2, -0.1, 0.41), (2.3, -0.1, 0.41), (2.3, 1.2, 0.41), (-0.2, 1.2, 0.41)]), "across",
+    through_both = (quad("across", [(-0.2, -0.1, 0.41), (2.3, -0.1, 0.41), (2.3, 1.2, 0.41), (-0.2, 1.2, 0.41)]), "across",
               on_sheet_plane((0, 0, 1), 0.41), up, nowhere)
     deep = (quad("deep", [(-0.2, 0.63, -0.1), (-0.2, 0.63, 1.1), (1.55, 0.63, 1.1), (1.55, 0.63, -0.1)]), "deep",
             on_sheet_plane((0, 1, 0), 0.63, (0, 0, 0), (1.55, 1, 1)), lambda p: (0, 1, 0),
             lambda p: abs(p[0] - 1.55) < 1e-9)
-    for label, sheets in (("regions_across", [across]), ("regions_deep", [deep])):
+    for label, sheets in (("regions_across", [through_both]), ("regions_deep", [deep])):
         for fraction in (12, 20):
             for seed in (1, 2):
                 check_cracks(f"{label}_{fraction}", two_boxes, sheets, 1 / fraction, seed, work)
     for seed in (1, 2):
-        check_welded_alike("regions_across_weld", two_boxes, [across[:2]], 1 / 20, seed, 0.3 / 20, work)
+        check_welded_alike("regions_across_weld", two_boxes, [through_both[:2]], 1 / 20, seed, 0.3 / 20, work)
     # Not yet: a sheet that ends at an interface, one whose front crosses it, or a front whose
     # skirt (2r) would reach it; a sheet lying on one is the input's defect.
     p = froth("mesh", *two_boxes, "--crack", quad("ends", [(-0.2, 0.2, 0.5), (1, 0.2, 0.5), (1, 0.8, 0.5), (-0.2, 0.8, 0.5)]),
