@@ -26,6 +26,7 @@ from vtk.util.numpy_support import vtk_to_numpy
 from harness import check, checkmesh, face_stream, froth, read_vtk, summary
 
 MODELS, CRACKS = sys.argv[2], sys.argv[3]
+REGIONS = sys.argv[4:] == ["regions"]  # only the multi-region cases
 
 
 def polygon_area(points):
@@ -219,49 +220,8 @@ def check_cracks(label, solid, sheets, r, seed, work, extra=()):
           f"{label} seed {seed}: {np.sum(kernel == 0)} cells without a kernel")
 
 
-def main():
-    work = tempfile.mkdtemp(prefix="froth_cracks_")
-    box = "box:0,0,0,1,1,1"
-    plate = os.path.join(MODELS, "plate_holes.STL")  # 203.2 x 304.8 x 12.7
-    up, across, out_of_lens = (lambda p: (0, 0, 1)), (lambda p: (0, 1, 0)), (lambda p: p - 0.5)
-    nowhere = lambda p: False  # noqa: E731 (no front)
-    cases = [("box_through", box, "box_through.obj", "box_through", 1.0, on_sheet_plane((0, 0, 1), 0.5), up, nowhere),
-             ("lens", box, "lens.obj", "lens", 1.0, on_lens, out_of_lens, nowhere),
-             ("plate_through", plate, "plate_through.obj", "plate_through", 304.8, on_sheet_plane((0, 1, 0), 152.4),
-              across, nowhere),
-             # A front inside the solid all round (a penny), and from a face (an edge crack).
-             ("penny", box, "penny.obj", "penny", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)), up,
-              on_box_edge((0.25, 0.3), (0.75, 0.7))),
-             ("edge", box, "edge.obj", "edge", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0, 0.2, 0), (0.45, 0.8, 1)), up,
-              on_box_edge((-1, 0.2), (0.45, 0.8))),
-             # A curved sheet (a strip of a cylinder about y), its front all round.
-             ("curved", box, "curved.obj", "curved", 1.0, on_triangles(os.path.join(CRACKS, "curved.obj")),
-              lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))]
-    for label, solid, sheet, name, size, on_sheet, sheet_normal, on_front in cases:
-        for fraction in (12, 20):
-            for seed in (1, 2):
-                check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
-                           sheet_normal, on_front, work)
-    # Crossing sheets (a branching crack), cut open four ways along their crossing: two through
-    # cracks crossing from face to face (the box falls into four pieces); a penny upright across
-    # the through crack (its front crosses it, and so does the skirt beyond its front); and two
-    # pennies crossing (their fronts and skirts cross each other's sheets).
-    xdir = lambda p: (1, 0, 0)  # noqa: E731
-    through = (os.path.join(CRACKS, "box_through.obj"), "box_through", on_sheet_plane((0, 0, 1), 0.5), up, nowhere)
-    upright = (os.path.join(CRACKS, "box_upright.obj"), "box_upright", on_sheet_plane((1, 0, 0), 0.37), xdir, nowhere)
-    penny = (os.path.join(CRACKS, "penny.obj"), "penny", on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)),
-             up, on_box_edge((0.25, 0.3), (0.75, 0.7)))
-    on_upright_front = lambda p: abs(p[0] - 0.6) < 1e-9 and on_box_edge((0.25, 0.3), (0.75, 0.7))((p[1], p[2]))  # noqa: E731
-    penny_upright = (os.path.join(CRACKS, "penny_upright.obj"), "penny_upright",
-                     on_sheet_plane((1, 0, 0), 0.6, (0, 0.25, 0.3), (1, 0.75, 0.7)), xdir, on_upright_front)
-    crossings = [("crossing", [through, upright]), ("crossing_penny", [through, penny_upright]),
-                 ("crossing_pennies", [penny, penny_upright])]
-    for label, sheets in crossings:
-        for fraction in (12, 20):
-            for seed in (1, 2):
-                check_cracks(f"{label}_{fraction}", box, sheets, 1 / fraction, seed, work)
-        for seed in (1, 2):
-            check_welded_alike(f"{label}_weld", box, [s[:2] for s in sheets], 1 / 20, seed, 0.3 / 20, work)
+def multi_region(work, box, up, nowhere, upright, penny, penny_upright):
+    """Cracks in a multi-region solid (the long tier: cli_cracks_regions)."""
     # A multi-region solid (two unit cubes side by side, sharing the face x = 1): a penny, a
     # through crack and an edge crack in the first, and the penny with the through crack crossing it.
     two_boxes = [box, "box:1,0,0,2,1,1"]
@@ -311,6 +271,54 @@ def main():
     p = froth("mesh", *two_boxes, "--crack", penny[0], "-r", "0.15", "-o", os.path.join(work, "rs.vtu"))
     check(p.returncode == 2 and "within 2r = 0.3 of the interface" in p.stderr,
           f"a front 0.25 from an interface at r = 0.15: exit {p.returncode}: {p.stderr}")
+
+
+def main():
+    work = tempfile.mkdtemp(prefix="froth_cracks_")
+    box = "box:0,0,0,1,1,1"
+    plate = os.path.join(MODELS, "plate_holes.STL")  # 203.2 x 304.8 x 12.7
+    up, across, out_of_lens = (lambda p: (0, 0, 1)), (lambda p: (0, 1, 0)), (lambda p: p - 0.5)
+    nowhere = lambda p: False  # noqa: E731 (no front)
+    cases = [("box_through", box, "box_through.obj", "box_through", 1.0, on_sheet_plane((0, 0, 1), 0.5), up, nowhere),
+             ("lens", box, "lens.obj", "lens", 1.0, on_lens, out_of_lens, nowhere),
+             ("plate_through", plate, "plate_through.obj", "plate_through", 304.8, on_sheet_plane((0, 1, 0), 152.4),
+              across, nowhere),
+             # A front inside the solid all round (a penny), and from a face (an edge crack).
+             ("penny", box, "penny.obj", "penny", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)), up,
+              on_box_edge((0.25, 0.3), (0.75, 0.7))),
+             ("edge", box, "edge.obj", "edge", 1.0, on_sheet_plane((0, 0, 1), 0.5, (0, 0.2, 0), (0.45, 0.8, 1)), up,
+              on_box_edge((-1, 0.2), (0.45, 0.8))),
+             # A curved sheet (a strip of a cylinder about y), its front all round.
+             ("curved", box, "curved.obj", "curved", 1.0, on_triangles(os.path.join(CRACKS, "curved.obj")),
+              lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))]
+    for label, solid, sheet, name, size, on_sheet, sheet_normal, on_front in cases:
+        for fraction in (12, 20):
+            for seed in (1, 2):
+                check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
+                           sheet_normal, on_front, work)
+    # Crossing sheets (a branching crack), cut open four ways along their crossing: two through
+    # cracks crossing from face to face (the box falls into four pieces); a penny upright across
+    # the through crack (its front crosses it, and so does the skirt beyond its front); and two
+    # pennies crossing (their fronts and skirts cross each other's sheets).
+    xdir = lambda p: (1, 0, 0)  # noqa: E731
+    through = (os.path.join(CRACKS, "box_through.obj"), "box_through", on_sheet_plane((0, 0, 1), 0.5), up, nowhere)
+    upright = (os.path.join(CRACKS, "box_upright.obj"), "box_upright", on_sheet_plane((1, 0, 0), 0.37), xdir, nowhere)
+    penny = (os.path.join(CRACKS, "penny.obj"), "penny", on_sheet_plane((0, 0, 1), 0.5, (0.25, 0.3, 0), (0.75, 0.7, 1)),
+             up, on_box_edge((0.25, 0.3), (0.75, 0.7)))
+    on_upright_front = lambda p: abs(p[0] - 0.6) < 1e-9 and on_box_edge((0.25, 0.3), (0.75, 0.7))((p[1], p[2]))  # noqa: E731
+    penny_upright = (os.path.join(CRACKS, "penny_upright.obj"), "penny_upright",
+                     on_sheet_plane((1, 0, 0), 0.6, (0, 0.25, 0.3), (1, 0.75, 0.7)), xdir, on_upright_front)
+    if REGIONS:
+        multi_region(work, box, up, nowhere, upright, penny, penny_upright)
+        return summary()
+    crossings = [("crossing", [through, upright]), ("crossing_penny", [through, penny_upright]),
+                 ("crossing_pennies", [penny, penny_upright])]
+    for label, sheets in crossings:
+        for fraction in (12, 20):
+            for seed in (1, 2):
+                check_cracks(f"{label}_{fraction}", box, sheets, 1 / fraction, seed, work)
+        for seed in (1, 2):
+            check_welded_alike(f"{label}_weld", box, [s[:2] for s in sheets], 1 / 20, seed, 0.3 / 20, work)
     p = froth("mesh", box, "--crack", through[0], "--crack", upright[0], "-r", "0.1", "--convex", "-o",
               os.path.join(work, "cv.vtu"))
     check(p.returncode == 2 and "crossing cracks" in p.stderr, f"--convex with crossing cracks: exit {p.returncode}: {p.stderr}")
