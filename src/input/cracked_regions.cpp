@@ -119,16 +119,18 @@ std::vector<Piece> pieces_of_sheets(const RegionSet& set, const Interfaces& inte
           if (set.solids[k].contains(p)) in.insert(int32_t(k));
     }
     if (in.empty()) fail(ErrorKind::Internal, fmt::format("crack {} lies in no region", c.name));
-    if (!touch) {
+    if (!touch && in.size() == 1) {
       pieces.push_back({c, i, *in.begin()});
       continue;
     }
-    const std::string between = fmt::format("the interface between regions {} and {} near {}",
-                                            set.names[size_t(touch->first[0])], set.names[size_t(touch->first[1])],
-                                            at(touch->second));
+    // Across an interface, or in separate parts in several regions: a piece per region.
+    const std::string between =
+        touch ? fmt::format("the interface between regions {} and {} near {}", set.names[size_t(touch->first[0])],
+                            set.names[size_t(touch->first[1])], at(touch->second))
+              : fmt::format("regions {} and {}", set.names[size_t(*in.begin())], set.names[size_t(*in.rbegin())]);
     if (!c.on_sheets.empty() || c.conformed)
-      fail(ErrorKind::Usage, fmt::format("crack {} crosses another crack and {}: a crack crossing both is not "
-                                         "supported yet",
+      fail(ErrorKind::Usage, fmt::format("crack {} crosses another crack and lies in {}: a crack in several regions "
+                                         "that crosses another is not supported yet",
                                          c.name, between));
     const std::string ends = fmt::format("crack {} ends at {}: a crack that reaches an interface without crossing "
                                          "it is not supported yet (extend it across, or keep it inside one region)",

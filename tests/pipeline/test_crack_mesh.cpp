@@ -291,6 +291,22 @@ TEST(CrackMesh, SheetOnAnInterfaceIsRefused) {
   }
 }
 
+// A sheet in two parts, one in each region, off the interface: both regions are cut (the part in
+// the second was left uncut before).
+TEST(CrackMesh, SheetInPartsInTwoRegions) {
+  TriangleSurface sheet = test::square_sheet(0.2, 0.7, 0.3, 0.7, 0.5, 2);
+  const TriangleSurface other = test::square_sheet(1.3, 1.8, 0.3, 0.7, 0.5, 2);
+  const int32_t n = int32_t(sheet.vertices.size());
+  sheet.vertices.insert(sheet.vertices.end(), other.vertices.begin(), other.vertices.end());
+  for (auto t : other.triangles) sheet.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  const Domain d = cracked_regions(sheet, "two");
+  const PolyMesh m = test::mesh_of(d, 1.0 / 12, 1, 2);
+  EXPECT_TRUE(check_mesh(m).ok());
+  const CrackFaces c = crack_faces(m, "two", 0.5);
+  EXPECT_NEAR(c.area[0], 0.4, 1e-9);
+  EXPECT_NEAR(c.area[1], 0.4, 1e-9);
+}
+
 // A through crack of both regions (z = 0.41, across the interface): each region is cut along
 // its part, the sheet's points on the interface have one copy per side, shared by both regions.
 TEST(CrackMesh, ThroughCrackAcrossTheInterface) {
