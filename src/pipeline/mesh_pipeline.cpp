@@ -512,7 +512,15 @@ PolyMesh owned_cells(PolyMesh& ring, size_t own_begin, size_t own_end, const Mes
 PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport& run, Communicator* comm,
                       PartitionReport& part) {
   run.cells_requested = given.cells;
+  // `cells` is turned into r through one sample: part of the run the user waits for.
+  Stopwatch choosing;
   const MeshOptions opt = resolve_options(domain, given);
+  const double choosing_seconds = given.cells != 0 ? choosing.lap() : 0;
+  auto count_choosing = [&] {
+    if (choosing_seconds == 0) return;
+    run.stages.insert(run.stages.begin(), {"choosing r", choosing_seconds, peak_rss_bytes()});
+    run.total_seconds += choosing_seconds;
+  };
   // A crack front inside the solid: the sheets are cut in again with their skirts, whose width
   // follows r (input/cracked_domain.hpp); the r chosen for `cells` is kept.
   if (const CrackSet* cracks = domain.cracks.get(); cracks && cracks->fronts && cracks->skirt_r != opt.r) {
@@ -521,6 +529,7 @@ PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport&
     const Domain cut = cut_along_cracks(cracks->solid, cracks->sheets, opt.r);
     PolyMesh mesh = run_pipeline(cut, at_r, run, comm, part);
     run.cells_requested = given.cells;
+    count_choosing();
     return mesh;
   }
   if (comm && opt.convex)
@@ -571,6 +580,7 @@ PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport&
   finish_mesh(domain, mesh, opt, run, welded, watch);
   if (opt.convex) measure_pieces(mesh, run.convex_split);
   run.total_seconds = total.lap();
+  count_choosing();
   run.peak_rss_bytes = peak_rss_bytes();
   return mesh;
 }

@@ -1,4 +1,5 @@
 """What the end-to-end scripts share: counted checks, running froth, VTK's readers."""
+import os
 import shutil
 import subprocess
 import sys
@@ -6,6 +7,9 @@ import sys
 import vtk
 
 FROTH = sys.argv[1]
+# The sanitizer tier runs each case at its first seed only: the instrumented build is ten times
+# slower, and the second seed adds a sample, not code paths.
+SEEDS = (1,) if os.environ.get("FROTH_SANITIZED") == "1" else (1, 2)
 failures = []
 counts = {"passed": 0}
 

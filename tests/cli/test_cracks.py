@@ -23,7 +23,7 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from harness import check, checkmesh, face_stream, froth, read_vtk, summary
+from harness import SEEDS, check, checkmesh, face_stream, froth, read_vtk, summary
 
 MODELS, CRACKS = sys.argv[2], sys.argv[3]
 REGIONS = sys.argv[4:] == ["regions"]  # only the multi-region cases
@@ -230,11 +230,11 @@ def multi_region(work, box, up, nowhere, upright, penny, penny_upright):
     for label, sheets in (("regions_penny", [penny]), ("regions_through", [upright]), ("regions_edge", [edge]),
                           ("regions_crossing", [penny, penny_upright])):
         for fraction in (12, 20):
-            for seed in (1, 2):
+            for seed in SEEDS:
                 check_cracks(f"{label}_{fraction}", two_boxes, sheets, 1 / fraction, seed, work)
     curved = (os.path.join(CRACKS, "curved.obj"), "curved", on_triangles(os.path.join(CRACKS, "curved.obj")),
               lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))
-    for seed in (1, 2):
+    for seed in SEEDS:
         check_welded_alike("regions_penny_weld", two_boxes, [penny[:2]], 1 / 20, seed, 0.3 / 20, work)
         check_cracks("regions_curved_convex_12", two_boxes, [curved], 1 / 12, seed, work, ("--convex",))
     # Across the interface: a through crack of both cubes (z = 0.41), and a crack from the face
@@ -251,9 +251,9 @@ def multi_region(work, box, up, nowhere, upright, penny, penny_upright):
             lambda p: abs(p[0] - 1.55) < 1e-9)
     for label, sheets in (("regions_across", [through_both]), ("regions_deep", [deep])):
         for fraction in (12, 20):
-            for seed in (1, 2):
+            for seed in SEEDS:
                 check_cracks(f"{label}_{fraction}", two_boxes, sheets, 1 / fraction, seed, work)
-    for seed in (1, 2):
+    for seed in SEEDS:
         check_welded_alike("regions_across_weld", two_boxes, [through_both[:2]], 1 / 20, seed, 0.3 / 20, work)
     # Not yet: a sheet that ends at an interface, one whose front crosses it, or a front whose
     # skirt (2r) would reach it; a sheet lying on one is the input's defect.
@@ -293,7 +293,7 @@ def main():
               lambda p: (p[0] - 0.5, 0, p[2] + 0.3), on_box_edge((0.2, 0.3), (0.8, 0.7)))]
     for label, solid, sheet, name, size, on_sheet, sheet_normal, on_front in cases:
         for fraction in (12, 20):
-            for seed in (1, 2):
+            for seed in SEEDS:
                 check_case(f"{label}_{fraction}", solid, os.path.join(CRACKS, sheet), name, size / fraction, seed, on_sheet,
                            sheet_normal, on_front, work)
     # Crossing sheets (a branching crack), cut open four ways along their crossing: two through
@@ -315,9 +315,9 @@ def main():
                  ("crossing_pennies", [penny, penny_upright])]
     for label, sheets in crossings:
         for fraction in (12, 20):
-            for seed in (1, 2):
+            for seed in SEEDS:
                 check_cracks(f"{label}_{fraction}", box, sheets, 1 / fraction, seed, work)
-        for seed in (1, 2):
+        for seed in SEEDS:
             check_welded_alike(f"{label}_weld", box, [s[:2] for s in sheets], 1 / 20, seed, 0.3 / 20, work)
     p = froth("mesh", box, "--crack", through[0], "--crack", upright[0], "-r", "0.1", "--convex", "-o",
               os.path.join(work, "cv.vtu"))
@@ -333,7 +333,7 @@ def main():
     for option in ("--grade", "--convex"):
         for name, on_sheet, normal, on_front in in_plate:
             for fraction in (12, 20):
-                for seed in (1, 2):
+                for seed in SEEDS:
                     check_case(f"{name}{option.replace('-', '_')}_{fraction}", plate, os.path.join(CRACKS, f"{name}.obj"),
                                name, 304.8 / fraction, seed, on_sheet, normal, on_front, work, (option,))
     # A sheet narrower than the cells (a penny 6.35 tall across the 12.7 plate, at r = 25.4): its
@@ -349,14 +349,14 @@ def main():
     check(crack.get("faces_on_front", 0) > 0 and "have every point on the front" in p.stdout,
           f"narrow sheet: {crack}, {p.stdout[-600:]} {p.stderr}")
     # Convex cells where the crack itself makes cells non-convex: a curved sheet in the box.
-    for seed in (1, 2):
+    for seed in SEEDS:
         check_case("curved_convex_12", box, os.path.join(CRACKS, "curved.obj"), "curved", 1 / 12, seed,
                    on_triangles(os.path.join(CRACKS, "curved.obj")), lambda p: (p[0] - 0.5, 0, p[2] + 0.3),
                    on_box_edge((0.2, 0.3), (0.8, 0.7)), work, ("--convex",))
     # At 0.3 r (default 1e-4 r) the two sides of these welded apart before the weld mirrored them.
     for label, solid, sheet, name, size, *_ in cases:
         if label in ("box_through", "penny", "curved"):
-            for seed in (1, 2):
+            for seed in SEEDS:
                 check_welded_alike(f"{label}_weld", solid, [(os.path.join(CRACKS, sheet), name)], size / 20, seed,
                                    0.3 * size / 20, work)
 
