@@ -63,7 +63,8 @@ for name in MODELS:
     row(name, "--cells 1e5", uniform, box)
     graded = mesh([path], "--cells", "1e5", "--seed", "1", "--grade")
     row(name, "--cells 1e5 --grade", graded, box,
-        f"feature size {graded['stages'].get('feature size', 0):.2f} s, sizing {graded['stages'].get('sizing', 0):.2f} s, "
+        f"choosing r {graded['stages'].get('choosing r', 0):.2f} s, feature size "
+        f"{graded['stages'].get('feature size', 0):.2f} s, sizing {graded['stages'].get('sizing', 0):.2f} s, "
         f"sampling {graded['stages'].get('sampling', 0):.2f} s")
 row("heater, 5 regions", "--cells 1e5", mesh(HEATER, "--cells", "1e5", "--seed", "1"), box)
 CRACKS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "cracks")
