@@ -6,7 +6,13 @@
 namespace froth {
 
 TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator& locator, double side)
-    : locator_(locator) {
+    : locator_(&locator) {
+  fill(surface, side, false);
+}
+
+TriangleGrid::TriangleGrid(const TriangleSurface& surface, double side) { fill(surface, side, true); }
+
+void TriangleGrid::fill(const TriangleSurface& surface, double side, bool keep_boxes) {
   const auto& V = surface.vertices;
   Box all{V.empty() ? Vec3{} : V[0], V.empty() ? Vec3{} : V[0]};
   std::vector<Box> boxes;  // per triangle
@@ -27,11 +33,12 @@ TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator&
   // Counting sort of (bucket, triangle) by bucket, triangles ascending within a bucket.
   int first[3], last[3];
   for (int pass = 0; pass < 2; ++pass) {
-    std::vector<uint32_t> fill;
+    std::vector<uint32_t> next;
     if (pass == 1) {
       for (size_t b = 1; b < begin_.size(); ++b) begin_[b] += begin_[b - 1];
       ids_.resize(begin_.back());
-      fill.assign(begin_.begin(), begin_.end() - 1);
+      if (keep_boxes) boxes_.resize(begin_.back());
+      next.assign(begin_.begin(), begin_.end() - 1);
     }
     for (size_t t = 0; t < boxes.size(); ++t) {
       locate(boxes[t].lo, boxes[t].hi, first, last);
@@ -40,7 +47,15 @@ TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator&
           for (int i = first[0]; i <= last[0]; ++i) {
             const size_t b = (size_t(k) * n_[1] + j) * n_[0] + i;
             if (pass == 0) ++begin_[b + 1];
-            else ids_[fill[b]++] = int32_t(t);
+            else {
+              if (keep_boxes) {
+                FloatBox& f = boxes_[next[b]];
+                for (int a = 0; a < 3; ++a)
+                  f.lo[a] = std::nextafter(float(boxes[t].lo[a]), -INFINITY),
+                  f.hi[a] = std::nextafter(float(boxes[t].hi[a]), INFINITY);
+              }
+              ids_[next[b]++] = int32_t(t);
+            }
           }
     }
   }
@@ -70,7 +85,7 @@ void TriangleGrid::triangles_near(Vec3 lo, Vec3 hi, std::vector<int32_t>& out) c
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   // The exact test rejects by bounding box first.
-  std::erase_if(out, [&](int32_t t) { return !locator_.triangle_meets_box(t, lo, hi); });
+  std::erase_if(out, [&](int32_t t) { return !locator_->triangle_meets_box(t, lo, hi); });
 }
 
 }  // namespace froth

@@ -3,6 +3,8 @@
 // about the size of a grid cube, so a query reads at most eight buckets; the AABB tree it
 // replaces there was slow on long, thin triangles (the tube, round.stl).
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -15,19 +17,69 @@ class TriangleGrid {
  public:
   // Buckets of side about `side` (coarser if the surface's box would need too many).
   TriangleGrid(const TriangleSurface& surface, const SurfaceLocator& locator, double side);
+  // Without a locator, with each entry's box kept beside it: for for_triangles_along() only.
+  TriangleGrid(const TriangleSurface& surface, double side);
 
   // The triangles that meet the closed box [lo, hi] (exact), ascending: the same answer as
   // SurfaceLocator::triangles_near.
   void triangles_near(Vec3 lo, Vec3 hi, std::vector<int32_t>& out) const;
 
+  // Calls f(t) for every triangle whose bounding box, widened by `margin`, meets the segment
+  // [a, b], some more than once: the entries of the buckets along it (those met by its steps of
+  // half a bucket, widened alike), each bucket once, tested by their boxes. Each entry's box sits
+  // beside its id: a fine surface puts hundreds of triangles in the buckets a ray reads, and
+  // reading each triangle's corners to reject it was most of the time.
+  template <class F>
+  void for_triangles_along(Vec3 a, Vec3 b, double margin, std::vector<size_t>& buckets, F&& f) const {
+    buckets.clear();
+    const int steps = std::max(1, int(std::ceil(2 * norm(b - a) / side_)));
+    int first[3], last[3];
+    for (int s = 0; s < steps; ++s) {
+      const Vec3 p = a + (double(s) / steps) * (b - a), q = a + (double(s + 1) / steps) * (b - a);
+      Vec3 lo, hi;
+      for (int k = 0; k < 3; ++k) lo[k] = std::min(p[k], q[k]) - margin, hi[k] = std::max(p[k], q[k]) + margin;
+      if (!locate(lo, hi, first, last)) continue;
+      for (int k = first[2]; k <= last[2]; ++k)
+        for (int j = first[1]; j <= last[1]; ++j)
+          for (int i = first[0]; i <= last[0]; ++i) {
+            const size_t bucket = (size_t(k) * n_[1] + j) * n_[0] + i;
+            if (std::find(buckets.begin(), buckets.end(), bucket) != buckets.end()) continue;
+            buckets.push_back(bucket);
+            for (uint32_t e = begin_[bucket]; e < begin_[bucket + 1]; ++e)
+              if (segment_meets(boxes_[e], a, b, margin)) f(ids_[e]);
+          }
+    }
+  }
+
  private:
+  struct FloatBox {
+    float lo[3], hi[3];  // rounded outward
+  };
+  // The slab test, with the box widened by margin.
+  static bool segment_meets(const FloatBox& box, Vec3 a, Vec3 b, double margin) {
+    double t0 = 0, t1 = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double lo = double(box.lo[k]) - margin, hi = double(box.hi[k]) + margin, d = b[k] - a[k];
+      if (d == 0) {
+        if (a[k] < lo || a[k] > hi) return false;
+        continue;
+      }
+      double u = (lo - a[k]) / d, v = (hi - a[k]) / d;
+      if (u > v) std::swap(u, v);
+      t0 = std::max(t0, u), t1 = std::min(t1, v);
+      if (t0 > t1) return false;
+    }
+    return true;
+  }
+  void fill(const TriangleSurface& surface, double side, bool keep_boxes);
   bool locate(Vec3 lo, Vec3 hi, int first[3], int last[3]) const;
-  const SurfaceLocator& locator_;
+  const SurfaceLocator* locator_ = nullptr;
   Vec3 origin_;
   double side_ = 1;
   int n_[3] = {1, 1, 1};
   std::vector<uint32_t> begin_;  // per bucket, into ids_
   std::vector<int32_t> ids_;
+  std::vector<FloatBox> boxes_;  // per entry of ids_, where kept
 };
 
 }  // namespace froth
