@@ -59,14 +59,14 @@ int froth_main(int argc, char** argv, froth::Communicator& world) {
 
 namespace {
 
-// glibc's allocator, set for froth's few large arrays. Each stage builds arrays of hundreds of MB
-// and frees them; glibc maps each afresh and the program then touches it page by page. These page
-// faults were a tenth of a 750,000-cell run, and in a virtual machine each one costs more.
-// With huge pages for large blocks, and freed memory kept for reuse, the run is 10-15% faster.
-// Its peak grows by a few percent. glibc reads these settings only from the environment at start,
-// so froth sets them and runs itself again, once. It does not where the user set them, or
-// where a tool preloads a library (valgrind, heaptrack): the second run would escape the tool.
-// The marker is removed again, so programs froth starts (Python) get the user's environment.
+// glibc's allocator, set to back its large blocks with huge pages. Each stage builds arrays of
+// hundreds of MB and frees them; glibc maps each afresh, and the program then faulted it in 4 KiB
+// page by page: a tenth of a 750,000-cell run, more in a virtual machine. Freed blocks still go
+// back to the system, so the peak does not grow. glibc reads this setting only from the
+// environment at start, so froth sets it and runs itself again, once. It does not where the user
+// set GLIBC_TUNABLES, or where a tool preloads a library (valgrind, heaptrack): the second run
+// would escape the tool. The marker is removed again, so programs froth starts (Python) get the
+// user's environment.
 constexpr const char* kTunedMarker = "FROTH_ALLOCATOR_SET";
 void tune_allocator(char** argv) {
   if (std::getenv(kTunedMarker)) {
@@ -76,10 +76,7 @@ void tune_allocator(char** argv) {
   }
   if (std::getenv("GLIBC_TUNABLES") || std::getenv("LD_PRELOAD")) return;
   setenv(kTunedMarker, "1", 1);
-  setenv("GLIBC_TUNABLES",
-         "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=4294967295:"
-         "glibc.malloc.trim_threshold=4294967295:glibc.malloc.top_pad=67108864",
-         1);
+  setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1);
   execv("/proc/self/exe", argv);
   unsetenv(kTunedMarker);  // no exec: run as started
   unsetenv("GLIBC_TUNABLES");
