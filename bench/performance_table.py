@@ -56,7 +56,7 @@ def row(case, command, m, box, note=""):
 
 
 box = mesh(["box:0,0,0,1,1,1"], "--cells", "1e5", "--seed", "1")
-row("box", "--cells 1e5", box, None)
+row("box", "--cells 1e5", box, None, f"choosing r {box['stages'].get('choosing r', 0):.2f} s")
 for name in MODELS:
     path = os.path.join(a.models, name)
     uniform = mesh([path], "--cells", "1e5", "--seed", "1")
