@@ -32,10 +32,25 @@ class TriangleGrid {
   template <class F>
   void for_triangles_along(Vec3 a, Vec3 b, double margin, std::vector<size_t>& buckets, F&& f) const {
     buckets.clear();
-    const int steps = std::max(1, int(std::ceil(2 * norm(b - a) / side_)));
+    // The part of the segment inside the grid (widened by margin): a ray far longer than the
+    // surface's box takes no more steps than the grid has buckets across.
+    double t0 = 0, t1 = 1;
+    for (int k = 0; k < 3 && t0 <= t1; ++k) {
+      const double lo = origin_[k] - margin, hi = origin_[k] + n_[k] * side_ + margin, d = b[k] - a[k];
+      if (d == 0) {
+        if (a[k] < lo || a[k] > hi) return;
+        continue;
+      }
+      double u = (lo - a[k]) / d, v = (hi - a[k]) / d;
+      if (u > v) std::swap(u, v);
+      t0 = std::max(t0, u), t1 = std::min(t1, v);
+    }
+    if (t0 > t1) return;
+    const Vec3 from = a + t0 * (b - a), to = a + t1 * (b - a);
+    const int steps = std::max(1, int(std::ceil(2 * norm(to - from) / side_)));
     int first[3], last[3];
     for (int s = 0; s < steps; ++s) {
-      const Vec3 p = a + (double(s) / steps) * (b - a), q = a + (double(s + 1) / steps) * (b - a);
+      const Vec3 p = from + (double(s) / steps) * (to - from), q = from + (double(s + 1) / steps) * (to - from);
       Vec3 lo, hi;
       for (int k = 0; k < 3; ++k) lo[k] = std::min(p[k], q[k]) - margin, hi[k] = std::max(p[k], q[k]) + margin;
       if (!locate(lo, hi, first, last)) continue;
