@@ -309,10 +309,11 @@ for domain, n in (("box:0,0,0,2,1,1", 5000), (os.path.join(MODELS, "1002_tray_bo
         j = json.load(open(rep))
         check(abs(j["mesh"]["cells"] / n - 1) <= 0.05 and j["input"]["cells_requested"] == n,
               f"--cells {n} on {domain}: {j['mesh']['cells']} cells")
-        # Choosing r (one sample) is the first stage after reading, and the total counts it.
+        # Choosing r (one sample) is the first stage after reading, and the total counts it with
+        # every other stage (and the untimed moments between them).
         stages = list(j["seconds"])
         check(stages[:2] == ["reading", "choosing r"] and j["seconds"]["choosing r"] > 0 and
-              abs(j["seconds_total"] - sum(j["seconds"].values())) < 0.05 * j["seconds_total"] + 0.01,
+              j["seconds_total"] >= sum(j["seconds"].values()) - 1e-6,
               f"--cells {n}: stages {j['seconds']}, total {j['seconds_total']}")
         again = froth("mesh", domain, "-r", repr(j["input"]["r"]), "--seed", "4", "--no-quality", "-o",
                       os.path.join(tmp, "again.vtu"))
