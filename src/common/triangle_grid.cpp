@@ -10,9 +10,9 @@ TriangleGrid::TriangleGrid(const TriangleSurface& surface, const SurfaceLocator&
   fill(surface, side, false);
 }
 
-TriangleGrid::TriangleGrid(const TriangleSurface& surface, double side) { fill(surface, side, true); }
+TriangleGrid::TriangleGrid(const TriangleSurface& surface) { fill(surface, 0, true); }
 
-void TriangleGrid::fill(const TriangleSurface& surface, double side, bool keep_boxes) {
+void TriangleGrid::fill(const TriangleSurface& surface, double side, bool for_segments) {
   const auto& V = surface.vertices;
   Box all{V.empty() ? Vec3{} : V[0], V.empty() ? Vec3{} : V[0]};
   std::vector<Box> boxes;  // per triangle
@@ -23,6 +23,13 @@ void TriangleGrid::fill(const TriangleSurface& surface, double side, bool keep_b
       for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], V[t[k]][a]), b.hi[a] = std::max(b.hi[a], V[t[k]][a]);
     for (int a = 0; a < 3; ++a) all.lo[a] = std::min(all.lo[a], b.lo[a]), all.hi[a] = std::max(all.hi[a], b.hi[a]);
     boxes.push_back(b);
+  }
+  if (for_segments && !boxes.empty()) {  // the median triangle's longest side
+    std::vector<double> extent;
+    extent.reserve(boxes.size());
+    for (const Box& b : boxes) extent.push_back(std::max({b.size().x, b.size().y, b.size().z}));
+    std::nth_element(extent.begin(), extent.begin() + int64_t(extent.size() / 2), extent.end());
+    side = extent[extent.size() / 2];
   }
   // At most 256 buckets along an axis: a fine grid over a large, thin or hollow surface would
   // cost more memory than the queries gain.
@@ -37,7 +44,7 @@ void TriangleGrid::fill(const TriangleSurface& surface, double side, bool keep_b
     if (pass == 1) {
       for (size_t b = 1; b < begin_.size(); ++b) begin_[b] += begin_[b - 1];
       ids_.resize(begin_.back());
-      if (keep_boxes) boxes_.resize(begin_.back());
+      if (for_segments) boxes_.resize(begin_.back());
       next.assign(begin_.begin(), begin_.end() - 1);
     }
     for (size_t t = 0; t < boxes.size(); ++t) {
@@ -48,7 +55,7 @@ void TriangleGrid::fill(const TriangleSurface& surface, double side, bool keep_b
             const size_t b = (size_t(k) * n_[1] + j) * n_[0] + i;
             if (pass == 0) ++begin_[b + 1];
             else {
-              if (keep_boxes) {
+              if (for_segments) {
                 FloatBox& f = boxes_[next[b]];
                 for (int a = 0; a < 3; ++a)
                   f.lo[a] = std::nextafter(float(boxes[t].lo[a]), -INFINITY),

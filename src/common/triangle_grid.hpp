@@ -17,8 +17,12 @@ class TriangleGrid {
  public:
   // Buckets of side about `side` (coarser if the surface's box would need too many).
   TriangleGrid(const TriangleSurface& surface, const SurfaceLocator& locator, double side);
-  // Without a locator, with each entry's box kept beside it: for for_triangles_along() only.
-  TriangleGrid(const TriangleSurface& surface, double side);
+  // For for_triangles_along() only: no locator, each entry's box kept beside it, and buckets the
+  // median triangle's size (or coarser, as above), whatever the segments' length. Each triangle
+  // is listed in every bucket its box meets, so smaller buckets would list the large facets of a
+  // coarse CAD export millions of times, and larger ones would hand a short segment hundreds of
+  // fine facets to reject.
+  explicit TriangleGrid(const TriangleSurface& surface);
 
   // The triangles that meet the closed box [lo, hi] (exact), ascending: the same answer as
   // SurfaceLocator::triangles_near.
@@ -34,18 +38,9 @@ class TriangleGrid {
     buckets.clear();
     // The part of the segment inside the grid (widened by margin): a ray far longer than the
     // surface's box takes no more steps than the grid has buckets across.
-    double t0 = 0, t1 = 1;
-    for (int k = 0; k < 3 && t0 <= t1; ++k) {
-      const double lo = origin_[k] - margin, hi = origin_[k] + n_[k] * side_ + margin, d = b[k] - a[k];
-      if (d == 0) {
-        if (a[k] < lo || a[k] > hi) return;
-        continue;
-      }
-      double u = (lo - a[k]) / d, v = (hi - a[k]) / d;
-      if (u > v) std::swap(u, v);
-      t0 = std::max(t0, u), t1 = std::min(t1, v);
-    }
-    if (t0 > t1) return;
+    const Vec3 widen{margin, margin, margin}, end = origin_ + side_ * Vec3{double(n_[0]), double(n_[1]), double(n_[2])};
+    double t0, t1;
+    if (!clip_to_box(origin_ - widen, end + widen, a, b, t0, t1)) return;
     const Vec3 from = a + t0 * (b - a), to = a + t1 * (b - a);
     const int steps = std::max(1, int(std::ceil(2 * norm(to - from) / side_)));
     int first[3], last[3];
@@ -70,23 +65,30 @@ class TriangleGrid {
   struct FloatBox {
     float lo[3], hi[3];  // rounded outward
   };
-  // The slab test, with the box widened by margin.
-  static bool segment_meets(const FloatBox& box, Vec3 a, Vec3 b, double margin) {
-    double t0 = 0, t1 = 1;
+  // The slab test: the parameters [t0, t1] of the segment a + t (b - a), 0 <= t <= 1, inside
+  // the box [lo, hi]; false if there are none.
+  static bool clip_to_box(Vec3 lo, Vec3 hi, Vec3 a, Vec3 b, double& t0, double& t1) {
+    t0 = 0, t1 = 1;
     for (int k = 0; k < 3; ++k) {
-      const double lo = double(box.lo[k]) - margin, hi = double(box.hi[k]) + margin, d = b[k] - a[k];
+      const double d = b[k] - a[k];
       if (d == 0) {
-        if (a[k] < lo || a[k] > hi) return false;
+        if (a[k] < lo[k] || a[k] > hi[k]) return false;
         continue;
       }
-      double u = (lo - a[k]) / d, v = (hi - a[k]) / d;
+      double u = (lo[k] - a[k]) / d, v = (hi[k] - a[k]) / d;
       if (u > v) std::swap(u, v);
       t0 = std::max(t0, u), t1 = std::min(t1, v);
       if (t0 > t1) return false;
     }
     return true;
   }
-  void fill(const TriangleSurface& surface, double side, bool keep_boxes);
+  // The slab test against an entry's box widened by margin.
+  static bool segment_meets(const FloatBox& box, Vec3 a, Vec3 b, double margin) {
+    double t0, t1;
+    return clip_to_box(Vec3{box.lo[0], box.lo[1], box.lo[2]} - Vec3{margin, margin, margin},
+                       Vec3{box.hi[0], box.hi[1], box.hi[2]} + Vec3{margin, margin, margin}, a, b, t0, t1);
+  }
+  void fill(const TriangleSurface& surface, double side, bool for_segments);
   bool locate(Vec3 lo, Vec3 hi, int first[3], int last[3]) const;
   const SurfaceLocator* locator_ = nullptr;
   Vec3 origin_;

@@ -252,21 +252,8 @@ FeatureSize measure_feature_size(const Domain& domain, double cap) {
   }
   // The rays' candidates from a grid of buckets, tested by their boxes, then in doubles, then
   // exactly: the same hits as CGAL's AABB tree, which took 8 us per ray on a finely cut CAD
-  // surface (ADIS16480 x64). The buckets are the median triangle's size (or TriangleGrid's
-  // coarsest), whatever the rays' length: each triangle is listed in every bucket its box meets,
-  // so smaller buckets would list the large facets of a coarse CAD export millions of times, and
-  // larger ones would hand a short ray hundreds of fine facets to reject.
-  std::vector<double> extent(n);
-  for (size_t t = 0; t < n; ++t) {
-    Vec3 lo = S.vertices[S.triangles[t][0]], hi = lo;
-    for (int k = 1; k < 3; ++k)
-      for (int a = 0; a < 3; ++a)
-        lo[a] = std::min(lo[a], S.vertices[S.triangles[t][k]][a]), hi[a] = std::max(hi[a], S.vertices[S.triangles[t][k]][a]);
-    extent[t] = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-  }
-  std::nth_element(extent.begin(), extent.begin() + int64_t(n / 2), extent.end());
-  const TriangleGrid grid(S, extent[n / 2]);
-  std::vector<double>().swap(extent);
+  // surface (ADIS16480 x64).
+  const TriangleGrid grid(S);
   const auto adj = edge_neighbours(S);
   // Smooth patches: triangles joined across edges that are not features (turning by at most the
   // feature angle, as features.hpp classifies them).
