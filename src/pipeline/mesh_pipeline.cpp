@@ -446,33 +446,24 @@ struct SeedWindow {
 SeedWindow sample_seeds(const Domain& domain, const SizingField& sizing, const MeshOptions& opt, RunReport& run,
                         Communicator* comm, PartitionReport& part) {
   stage_starts(opt, "sampling");
-  const auto sample_all = [&] {
-    return sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed, nullptr, progress_of(opt, "sampling"))
-                               : sample_graded_poisson_disk(domain, sizing, opt.seed, progress_of(opt, "sampling"));
+  // The whole sample, or with a partition this rank's window of it.
+  const auto sample = [&](SamplingPartition* sp) {
+    return sizing.is_uniform() ? sample_maximal_poisson_disk(domain, opt.r, opt.seed, sp, progress_of(opt, "sampling"))
+                               : sample_graded_poisson_disk(domain, sizing, opt.seed, sp, progress_of(opt, "sampling"));
   };
   if (!comm) {
-    SeedWindow w{sample_all(), {}, {}};
+    SeedWindow w{sample(nullptr), {}, {}};
     run.sampling = w.sample.stats;
     w.built = w.owned = {0, int32_t(w.sample.seeds.size())};
     return w;
   }
-  CellWindow w;
-  if (sizing.is_uniform()) {
-    SamplingPartition sp{part.slab, comm};
-    Sample sampled = sample_maximal_poisson_disk(domain, opt.r, opt.seed, &sp, progress_of(opt, "sampling"));
-    part.exchanges = sp.exchanges;
-    w = exchange_cell_halo(sampled, part.slab, *comm);
-    run.sampling = w.sample.stats;
-    run.sampling.darts = comm->sum(run.sampling.darts);
-    run.sampling.uncovered_cubes = comm->sum(run.sampling.uncovered_cubes);
-  } else {
-    // The graded sampler has no slab schedule yet: every rank draws the whole sample (the
-    // serial one, a pure function of its inputs) and keeps its slab's window of it, so the
-    // cells still equal the serial mesh's; only the cells' work is divided.
-    const Sample sampled = sample_all();
-    w = exchange_cell_halo(sampled, part.slab, *comm);
-    run.sampling = sampled.stats;
-  }
+  SamplingPartition sp{part.slab, comm};
+  const Sample sampled = sample(&sp);
+  part.exchanges = sp.exchanges;
+  CellWindow w = exchange_cell_halo(sampled, part.slab, *comm);
+  run.sampling = w.sample.stats;
+  run.sampling.darts = comm->sum(run.sampling.darts);
+  run.sampling.uncovered_cubes = comm->sum(run.sampling.uncovered_cubes);
   // Counts over all ranks (protection seeds are computed whole on every rank).
   run.sampling.seeds = w.total_seeds;
   part.first_seed = w.first_global + w.owned.begin;

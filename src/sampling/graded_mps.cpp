@@ -9,6 +9,8 @@
 
 #include "common/random.hpp"
 #include "common/surface_locator.hpp"
+#include "froth/error.hpp"
+#include "sampling/graded_rounds.hpp"
 #include "sampling/poisson_count.hpp"
 #include "sampling/protect_interfaces.hpp"
 #include "sampling/seed_blocks.hpp"
@@ -70,19 +72,16 @@ bool box_in_two_balls(Vec3 lo, double s, Vec3 c1, double h1, Vec3 c2, double h2)
   return true;
 }
 
-struct Dart {
-  double time;
-  Vec3 p;
-};
-
 class GradedSampler {
  public:
   std::function<void(double)> progress_;  // told after each level the fraction of the domain covered
 
-  GradedSampler(const Domain& d, const SizingField& h, uint64_t seed)
+  GradedSampler(const Domain& d, const SizingField& h, uint64_t seed, SamplingPartition* partition)
       : d_(d), h_(h), r_(h.r()), reach_factor_((1 + 1e-6) / (1 - h.lipschitz())), seed_(seed),
-        rng_(seed, RandomStream::Graded), seeds_(BackgroundGrid::covering(d.bounds, h.r())) {
+        rng_(seed, RandomStream::Graded), seeds_(BackgroundGrid::covering(d.bounds, h.r())), partition_(partition) {
     s_.grid = seeds_.grid();
+    const Slab whole{0, s_.grid.nz, 0, s_.grid.nz};
+    slab_ = partition_ ? partition_->slab : whole;
     s_.stats.base_cube_side = s_.grid.side;
     s_.stats.grid = {size_t(s_.grid.nx), size_t(s_.grid.ny), size_t(s_.grid.nz)};
   }
@@ -97,21 +96,24 @@ class GradedSampler {
     });
     const size_t initial_active = std::max<size_t>(1, active.size());
     int level = 0, epoch = 0;
-    for (; !active.empty(); ++level) {
+    for (; anywhere(!active.empty()); ++level) {
       SamplingLevel stats{active.size(), 0, 0};
       const size_t seeds0 = seeds_.size();
       const int rounds = level == 0 ? int(std::size(kLevel0DartsPerCube)) : 1;
       for (int q = 0; q < rounds; ++q, ++epoch) {
         const Poisson poisson(level == 0 ? kLevel0DartsPerCube[q] : kDartsPerCube);
-        std::vector<Dart> darts = open_darts(active, level, q, epoch, poisson, stats.darts);
-        std::sort(darts.begin(), darts.end(), [](const Dart& a, const Dart& b) {
-          return a.time != b.time ? a.time < b.time : std::tie(a.p.x, a.p.y, a.p.z) < std::tie(b.p.x, b.p.y, b.p.z);
-        });
+        std::vector<GradedDart> darts = open_darts(active, level, q, epoch, poisson, stats.darts);
+        std::sort(darts.begin(), darts.end(), arrives_before);
         // The darts no earlier seed covers, in arrival order against the round's new seeds:
         // the decisions of random sequential addition.
-        const int32_t round_first = int32_t(seeds_.size());
-        for (const Dart& t : darts)
-          if (!covered(t.p, round_first)) seeds_.add(t.p, h_.at(t.p));
+        if (partition_) {
+          const AcceptedDarts accepted = accept_across_ranks(darts, seeds_, h_, reach_factor_, *partition_, exchanges_);
+          for (size_t k = 0; k < accepted.point.size(); ++k) seeds_.add(accepted.point[k], accepted.radius[k]);
+        } else {
+          const int32_t round_first = int32_t(seeds_.size());
+          for (const GradedDart& t : darts)
+            if (!covered(t.p, round_first)) seeds_.add(t.p, h_.at(t.p));
+        }
         // Told after each round too (the same fraction): the caller may stop the run there.
         if (progress_) progress_(1.0 - double(active.size()) / (double(initial_active) * std::pow(8.0, level)));
       }
@@ -126,10 +128,13 @@ class GradedSampler {
     }
     s_.stats.levels = size_t(level) + 1;
     s_.stats.uncovered_cubes = active.size();
+    if (partition_) partition_->exchanges += exchanges_;
     return finish();
   }
 
  private:
+  // Is `mine` true on any rank? (Every rank calls it at the same point.)
+  bool anywhere(bool mine) const { return partition_ ? partition_->comm->any(mine) : mine; }
   double side(int level) const { return s_.grid.side / double(int64_t(1) << level); }
   Vec3 corner(const Cube& c, int level) const {
     return s_.grid.origin + side(level) * Vec3{double(c.i), double(c.j), double(c.k)};
@@ -141,11 +146,11 @@ class GradedSampler {
   // process. A cube's darts depend only on its place, level and round, and the cubes are taken in
   // chunks of the active list, which is in space order, so the seeds near a run of darts are read
   // once per base cube (near_disks) while they are in cache.
-  std::vector<Dart> open_darts(const std::vector<Cube>& active, int level, int round, int epoch,
+  std::vector<GradedDart> open_darts(const std::vector<Cube>& active, int level, int round, int epoch,
                                const Poisson& poisson, size_t& thrown) const {
     constexpr size_t kChunk = 4096;
     const size_t chunks = (active.size() + kChunk - 1) / kChunk;
-    std::vector<std::vector<Dart>> out(chunks);
+    std::vector<std::vector<GradedDart>> out(chunks);
     const double s = side(level);
     const uint64_t tag = uint64_t(level) << 24 | uint64_t(round) << 16;
     size_t count = 0;
@@ -173,7 +178,7 @@ class GradedSampler {
     thrown += count;
     size_t total = 0;
     for (const auto& o : out) total += o.size();
-    std::vector<Dart> all;
+    std::vector<GradedDart> all;
     all.reserve(total);
     for (const auto& o : out) all.insert(all.end(), o.begin(), o.end());
     return all;
@@ -276,13 +281,10 @@ class GradedSampler {
     return marks;
   }
 
-  // How far from p a seed can be whose disk reaches within `extra` of p: |p - q| < h(q) + extra
-  // and h(q) <= h(p) + lambda |p - q| give (h(p) + extra) / (1 - lambda), and never more than
-  // r + extra. Where h is small this reads a few base cubes instead of all within r (the scans
-  // were most of the graded sampler's time). The slack covers the nodes' float rounding.
-  double reach(Vec3 p, double extra) const {
-    return std::min(r_ + extra, (h_.at(p) + extra) * reach_factor_ + 1e-9 * r_);
-  }
+  // How far from p a seed can be whose disk reaches within `extra` of p (graded_reach). Where h
+  // is small this reads a few base cubes instead of all within r (the scans were most of the
+  // graded sampler's time).
+  double reach(Vec3 p, double extra) const { return graded_reach(h_, reach_factor_, p, extra); }
   // Is p in the disk of a seed numbered `first` or later?
   bool covered(Vec3 p, int32_t first) const {
     bool in = false;
@@ -404,7 +406,10 @@ class GradedSampler {
       for (size_t b = 0; b < blocks; ++b) {
         const int i0 = int(b % blocks_x) * kBlock, j0 = int(b / blocks_x % blocks_y) * kBlock,
                   k0 = int(b / (size_t(blocks_x) * blocks_y)) * kBlock;
-        const int i1 = std::min(g.nx, i0 + kBlock), j1 = std::min(g.ny, j0 + kBlock), k1 = std::min(g.nz, k0 + kBlock);
+        // A partitioned run's rank throws darts only into its own layers.
+        const int i1 = std::min(g.nx, i0 + kBlock), j1 = std::min(g.ny, j0 + kBlock),
+                  k1 = std::min({g.nz, k0 + kBlock, slab_.owned_end});
+        if (k1 <= slab_.owned_begin) continue;
         const Vec3 lo = corner(Cube{i0, j0, k0, false}, 0), hi = corner(Cube{i1, j1, k1, false}, 0);
         if (hi.x < d_.bounds.lo.x || hi.y < d_.bounds.lo.y || hi.z < d_.bounds.lo.z || lo.x > d_.bounds.hi.x ||
             lo.y > d_.bounds.hi.y || lo.z > d_.bounds.hi.z)
@@ -414,7 +419,7 @@ class GradedSampler {
         // No triangle in the block: every cube on the side of the block's centre.
         const int block_side = !d_.convex && near.empty() ? (d_.contains(0.5 * (lo + hi)) ? 1 : -1) : 0;
         if (block_side < 0) continue;
-        for (int k = k0; k < k1; ++k)
+        for (int k = std::max(k0, slab_.owned_begin); k < k1; ++k)
           for (int j = j0; j < j1; ++j) {
             // Along a row, each cube's centre takes its side from the previous one's, by parity
             // with the row's triangles; the first asks the whole surface.
@@ -544,17 +549,24 @@ class GradedSampler {
     const ProtectionSeeds p = protect_boundary_and_interfaces(
         d_, r_, seed_, s_.stats, [&](Vec3 x) { return h_.at(x); }, h_.lipschitz());
     for (size_t k = 0; k < p.points.size(); ++k) {
+      int i, j, l;
+      s_.grid.locate(p.points[k], i, j, l);
+      if (l < slab_.window_begin || l >= slab_.window_end) continue;  // outside this rank's window
       protection_.push_back({int32_t(seeds_.size()), p.kinds[k], p.inward[k]});
       seeds_.add(p.points[k], h_.at(p.points[k]));
     }
   }
 
-  // Seeds numbered by base cube, each cube's in the order they came.
+  // Seeds numbered by base cube, each cube's in the order they came; a partitioned run's rank
+  // holds its window's (mps.hpp's Sample).
   Sample finish() {
     std::vector<int32_t> new_id(seeds_.size(), -1);
-    s_.cube_seed.assign(s_.grid.cube_count(), -1);
+    const int64_t layer = int64_t(s_.grid.nx) * s_.grid.ny;
+    s_.cube_offset = layer * slab_.window_begin;
+    s_.cube_seed.assign(size_t(layer * (slab_.window_end - slab_.window_begin)), -1);
     s_.cube_extra_begin.assign(1, 0);
-    seeds_.for_each_cube([&](int64_t c, const std::vector<int32_t>& ids) {
+    seeds_.for_each_cube(s_.cube_offset, layer * slab_.window_end, [&](int64_t c, const std::vector<int32_t>& ids) {
+      c -= s_.cube_offset;
       for (int32_t q : ids) new_id[q] = int32_t(s_.seeds.size()), s_.seeds.push_back(seeds_.point[q]);
       if (ids.size() == 1) {
         s_.cube_seed[c] = new_id[ids[0]];
@@ -564,6 +576,8 @@ class GradedSampler {
       for (int32_t q : ids) s_.cube_extra.push_back(new_id[q]);
       s_.cube_extra_begin.push_back(int32_t(s_.cube_extra.size()));
     });
+    if (std::count(new_id.begin(), new_id.end(), -1) != 0)
+      fail(ErrorKind::Internal, "the graded sampler holds a seed outside its slab's window");
     for (Sample::Protected p : protection_) s_.protected_seeds.push_back({new_id[p.seed], p.kind, p.inward});
     std::sort(s_.protected_seeds.begin(), s_.protected_seeds.end(),
               [](const auto& a, const auto& b) { return a.seed < b.seed; });
@@ -580,13 +594,16 @@ class GradedSampler {
   SeedBlocks seeds_;  // each seed with its disk's radius, h at the seed
   std::vector<Sample::Protected> protection_;
   std::vector<int32_t> pool_;  // the active boundary cubes' triangles
+  SamplingPartition* partition_;  // null: the whole grid on this process
+  Slab slab_;                     // the layers this sampler throws darts into, and its window
+  size_t exchanges_ = 0;
 };
 
 }  // namespace
 
 Sample sample_graded_poisson_disk(const Domain& domain, const SizingField& h, uint64_t seed,
-                                  const std::function<void(double)>& progress) {
-  GradedSampler sampler(domain, h, seed);
+                                  SamplingPartition* partition, const std::function<void(double)>& progress) {
+  GradedSampler sampler(domain, h, seed, partition);
   sampler.progress_ = progress;
   return sampler.run();
 }

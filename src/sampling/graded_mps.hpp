@@ -19,8 +19,11 @@ namespace froth {
 
 // The sample on the uniform sampler's grid (base cubes of side r/sqrt(3)), a base cube holding
 // a list of seeds where h < r; protection seeds (reflex edges at h/sqrt(2)) first.
-// `progress`, if set, is told after each round of darts the fraction of the domain covered.
+// With a partition, the seeds of the slab's window only, the same as the serial sample's there
+// (graded_rounds.hpp); every rank must call it together. `progress`, if set, is told after each
+// round of darts the fraction of the domain covered.
 Sample sample_graded_poisson_disk(const Domain& domain, const SizingField& h, uint64_t seed,
+                                  SamplingPartition* partition = nullptr,
                                   const std::function<void(double)>& progress = {});
 
 }  // namespace froth

@@ -152,12 +152,12 @@ class SeedBlocks {
     });
   }
 
-  // Calls f(cube index, its seeds in the order they came) for every base cube with seeds, in the
-  // order of the cubes' indices.
+  // Calls f(cube index, its seeds in the order they came) for every base cube with seeds among
+  // cubes [begin, end), in the order of the cubes' indices.
   template <class F>
-  void for_each_cube(F&& f) const {
+  void for_each_cube(int64_t begin, int64_t end, F&& f) const {
     std::vector<int32_t> ids;
-    for (size_t c = 0; c < grid_.cube_count(); ++c) {
+    for (size_t c = size_t(begin); c < size_t(end); ++c) {
       int i, j, k;
       grid_.coords(int64_t(c), i, j, k);
       const int64_t slot = cube_slot(i, j, k);

@@ -70,8 +70,8 @@ def cells_by_seed(path):
 common = ["--threads", "1", "--seed", "5"]
 HEATER = [os.path.join(MODELS, "multi_region_heater", f + ".stl")
           for f in ("bottomAir", "heater", "leftSolid", "rightSolid", "topAir")]
-# The hollow sphere at diag/30 is graded (its shell is thinner than 2r): the graded sample is
-# drawn whole on every rank, the cells divided. Each case is at least 36 layers of sampling
+# The hollow sphere at diag/30 is graded (its shell is thinner than 2r): each rank samples its
+# slab with the graded sampler. Each case is at least 36 layers of sampling
 # cubes high, for 3 slabs of 12 (froth/partition.hpp's kCellHaloLayers).
 # And the graded hollow sphere cut through along the plane x = 0.1 (a crack with --grade).
 sheet = os.path.join(tmp, "through_x.obj")

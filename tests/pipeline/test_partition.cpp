@@ -64,8 +64,9 @@ void expect_same_cells(const PolyMesh& serial, const PolyMesh& piece, int64_t fi
   }
 }
 
-void expect_partition_matches_serial(const Domain& d, double r, double weld, uint64_t seed) {
+void expect_partition_matches_serial(const Domain& d, double r, double weld, uint64_t seed, bool grade = false) {
   MeshOptions opt;
+  opt.grade = grade;
   opt.r = r;
   opt.seed = seed;
   opt.weld = weld;
@@ -73,6 +74,7 @@ void expect_partition_matches_serial(const Domain& d, double r, double weld, uin
   opt.quality = true;
   RunReport serial_run;
   const PolyMesh serial = generate_mesh(d, opt, &serial_run);
+  if (grade) ASSERT_TRUE(serial_run.sizing.graded) << "the graded sampler is not used";
   for (int ranks : {1, 2, 3}) {
     SCOPED_TRACE(testing::Message() << ranks << " ranks");
     const std::vector<Piece> pieces = partitioned(d, opt, ranks);
@@ -128,6 +130,17 @@ TEST(Partition, CrackedBoxMatchesSerial) {
   // A penny at z = 0.5, its front inside: each rank cuts it in with its skirt and glues that back.
   const Domain penny = load_cracks(load_domain("box:0,0,0,1,1,1"), {FROTH_CRACKS_DIR "/penny.obj"});
   expect_partition_matches_serial(penny, 1.0 / 20, 1e-4 / 20, 6);
+}
+
+// Graded: each rank draws only its slab's darts (graded_rounds.hpp), and the seeds must still be
+// the serial ones. The hollow sphere's shell is thinner than 2r, so h falls to 0.86 r there; the
+// ADIS16480 housing's thin pockets take h to r/4, and its reflex edges' protection seeds lie
+// across the slabs' faces (about 23,000 cells).
+TEST(Partition, GradedPartsMatchSerial) {
+  const Domain sphere = load_domain(test::model("hollow_sphere.off"));
+  expect_partition_matches_serial(sphere, 0.0577, 1e-4 * 0.0577, 5, true);
+  const Domain housing = load_domain(test::model("ADIS16480.STL"));
+  expect_partition_matches_serial(housing, 0.00104, 1e-4 * 0.00104, 5, true);
 }
 
 TEST(Partition, WeldingBeyondTheGhostRingStopsEveryRank) {
