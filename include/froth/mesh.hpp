@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "froth/buffer.hpp"
+#include "froth/communicator.hpp"
 #include "froth/domain.hpp"
 #include "froth/geometry.hpp"
 
@@ -314,8 +315,10 @@ RunEstimate estimate_run(const Domain& domain, const MeshOptions& options);
 // saturated density first, then corrected by the seeds of one sample at that r (a pure function
 // of the domain, the count and the seed, so a run can be repeated with -r). With grading the
 // count is the uniform mesh's; grading adds cells where walls are thin (sampling/sizing.hpp).
-// `sample` false: the density's estimate alone (a dry run).
-double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool sample = true);
+// `sample` false: the density's estimate alone (a dry run). With `comm` (a partitioned run's
+// ranks, all calling together) each rank draws its slab of that sample, and the r is the same.
+double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool sample = true,
+                        Communicator* comm = nullptr);
 
 // Throws Error(Usage) for options that cannot give a mesh of the domain: r or the weld out of
 // range, a domain or r outside the scales froth computes in, a domain thinner than 1e-6 r, a
@@ -327,7 +330,8 @@ void check_mesh_options(const Domain& domain, const MeshOptions& options, double
 // The options with the library's defaults filled in: r from `cells` where r is 0 (`sample`
 // false: the density's estimate alone, as for a dry run) and the weld tolerance where unset.
 // Throws Error(Usage) where neither r nor cells is given, or both.
-MeshOptions resolve_options(const Domain& domain, const MeshOptions& options, bool sample = true);
+MeshOptions resolve_options(const Domain& domain, const MeshOptions& options, bool sample = true,
+                            Communicator* comm = nullptr);
 
 // The whole pipeline: sample, build cells, assemble the conforming mesh. Throws Error.
 PolyMesh generate_mesh(const Domain& domain, const MeshOptions& options, RunReport* report);

@@ -505,7 +505,7 @@ PolyMesh run_pipeline(const Domain& domain, const MeshOptions& given, RunReport&
   run.cells_requested = given.cells;
   // `cells` is turned into r through one sample: part of the run the user waits for.
   Stopwatch choosing;
-  const MeshOptions opt = resolve_options(domain, given);
+  const MeshOptions opt = resolve_options(domain, given, true, comm);
   const double choosing_seconds = given.cells != 0 ? choosing.lap() : 0;
   auto count_choosing = [&] {
     if (choosing_seconds == 0) return;

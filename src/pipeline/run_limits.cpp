@@ -13,6 +13,7 @@
 #include "froth/mesh.hpp"
 #include "froth/weld.hpp"
 #include "input/cracked_domain.hpp"
+#include "froth/partition.hpp"
 #include "sampling/mps.hpp"
 #include "sampling/sizing.hpp"
 
@@ -48,7 +49,26 @@ RunEstimate estimate_run(const Domain& domain, const MeshOptions& opt) {
   return {cells, kBytesPerCell * cells + kBytesPerCube * background_cubes(domain, r)};
 }
 
-double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool sample) {
+namespace {
+
+// The seeds of a maximal sample at r: drawn whole, or by slabs over a partitioned run's ranks
+// when each gets the layers the sampler's halo needs (the count is the serial one either way).
+size_t sample_size(const Domain& domain, double r, uint64_t seed, Communicator* comm) {
+  const BackgroundGrid grid = BackgroundGrid::covering(domain.bounds, r);
+  if (!comm || comm->size() == 1 || grid.nz / comm->size() < kCellHaloLayers)
+    return sample_maximal_poisson_disk(domain, r, seed).seeds.size();
+  SamplingPartition part{slab_of(comm->rank(), comm->size(), grid.nz), comm};
+  const Sample s = sample_maximal_poisson_disk(domain, r, seed, &part);
+  const int64_t layer = int64_t(grid.nx) * grid.ny;
+  size_t own = 0;
+  for (int64_t c = layer * part.slab.owned_begin; c < layer * part.slab.owned_end; ++c)
+    s.for_seeds_in_cube(c, [&](int32_t) { ++own; });
+  return comm->sum(own);
+}
+
+}  // namespace
+
+double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool sample, Communicator* comm) {
   if (!(cells >= 1) || !(cells <= 1e10))
     fail(ErrorKind::Usage, fmt::format("the cell count must be from 1 to 1e10, got {}", cells));
   // The density's estimate (V + S r/2) / r^3 is decreasing in r: bisect on its logarithm.
@@ -66,7 +86,7 @@ double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool 
   MeshOptions probe;
   probe.r = r;
   check_mesh_options(domain, probe);
-  const double seeds = double(sample_maximal_poisson_disk(domain, r, seed).seeds.size());
+  const double seeds = double(sample_size(domain, r, seed, comm));
   if (seeds > 0) {
     const double k = -std::log(estimate(r * 1.01) / estimate(r)) / std::log(1.01);
     r *= std::pow(seeds / cells, 1 / k);
@@ -74,11 +94,11 @@ double radius_for_cells(const Domain& domain, double cells, uint64_t seed, bool 
   return r;
 }
 
-MeshOptions resolve_options(const Domain& domain, const MeshOptions& given, bool sample) {
+MeshOptions resolve_options(const Domain& domain, const MeshOptions& given, bool sample, Communicator* comm) {
   MeshOptions opt = given;
   if (opt.cells != 0) {
     if (opt.r != 0) fail(ErrorKind::Usage, "give r (the sampling radius) or a cell count, not both");
-    opt.r = radius_for_cells(domain, opt.cells, opt.seed, sample);
+    opt.r = radius_for_cells(domain, opt.cells, opt.seed, sample, comm);
     opt.cells = 0;  // resolved: r stands for the count from here on (RunReport::cells_requested keeps it)
   }
   if (!opt.weld) opt.weld = default_weld_tolerance(opt.r, domain.bounds.diagonal(), opt.convex);

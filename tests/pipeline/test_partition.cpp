@@ -143,6 +143,28 @@ TEST(Partition, GradedPartsMatchSerial) {
   expect_partition_matches_serial(housing, 0.00104, 1e-4 * 0.00104, 5, true);
 }
 
+// --cells: the r chosen from one sample, drawn here by slabs over the ranks, is the serial one.
+TEST(Partition, CellCountChoosesTheSerialRadius) {
+  MeshOptions opt;
+  opt.cells = 12000;
+  opt.seed = 4;
+  opt.threads = 1;
+  opt.quality = false;
+  const Domain d = load_domain(test::model("7_8ths_cube.stl"));
+  RunReport serial;
+  const size_t cells = generate_mesh(d, opt, &serial).cell_count();
+  for (int ranks : {2, 3}) {
+    const std::vector<Piece> pieces = partitioned(d, opt, ranks);
+    size_t total = 0;
+    for (const Piece& p : pieces) {
+      ASSERT_EQ(p.error, "");
+      EXPECT_EQ(std::memcmp(&p.run.r, &serial.r, sizeof(double)), 0) << ranks << " ranks: r " << p.run.r << ", serial " << serial.r;
+      total += p.mesh.cell_count();
+    }
+    EXPECT_EQ(total, cells) << ranks << " ranks";
+  }
+}
+
 TEST(Partition, WeldingBeyondTheGhostRingStopsEveryRank) {
   MeshOptions opt;
   opt.r = 0.06;
