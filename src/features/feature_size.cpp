@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 
 #include "common/triangle_grid.hpp"
 #include "common/union_find.hpp"
@@ -163,16 +164,27 @@ struct ConvexPieces {
 // (the far face of a wedge, over its edge) is found along a short path instead of by settling
 // the whole ball: a fan of slivers (a CAD cylinder's cap) would put every triangle of the part in
 // it, for every triangle.
+//
+// The answer is whether q's piece lies in the start piece's component under the rims' test, so
+// any path of rims that passes the test proves it, whichever search found it. Each thread keeps
+// the last path found between two pieces and tries it first: rays from neighbouring triangles
+// hit the same pieces, and the search settled some 470 pieces per reachable hit on ADIS16480 x64.
 class Reach {
  public:
   Reach(const TriangleSurface& s, const ConvexPieces& pieces, const std::vector<Vec3>& centroid)
-      : s_(s), pieces_(pieces), centroid_(centroid), seen_(pieces.centre.size(), 0) {}
+      : s_(s), pieces_(pieces), centroid_(centroid), seen_(pieces.centre.size(), 0), via_(pieces.centre.size(), 0) {}
 
   bool reaches(int32_t from, Vec3 p, int32_t q, double ball) {
     const int32_t start = pieces_.of[size_t(from)], goal = pieces_.of[size_t(q)];
     if (start == goal) return true;  // (q meets the ball: the hit on it lies inside)
-    if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
     const double ball2 = ball * ball;
+    auto passes = [&](uint32_t r) {
+      const ConvexPieces::Rim& rim = pieces_.rims[r];
+      return segment_distance2(p, s_.vertices[size_t(rim.a)], s_.vertices[size_t(rim.b)]) <= ball2;
+    };
+    std::vector<uint32_t>& path = paths_[uint64_t(uint32_t(start)) << 32 | uint32_t(goal)];
+    if (!path.empty() && std::all_of(path.begin(), path.end(), passes)) return true;
+    if (++stamp_ == 0) std::fill(seen_.begin(), seen_.end(), 0), stamp_ = 1;
     const Vec3 target = centroid_[size_t(q)];
     heap_.clear();
     auto push = [&](int32_t piece) {
@@ -187,9 +199,14 @@ class Reach {
       heap_.pop_back();
       for (uint32_t r = pieces_.rim_begin[size_t(piece)]; r < pieces_.rim_begin[size_t(piece) + 1]; ++r) {
         const ConvexPieces::Rim& rim = pieces_.rims[r];
-        if (seen_[size_t(rim.across)] == stamp_) continue;
-        if (segment_distance2(p, s_.vertices[size_t(rim.a)], s_.vertices[size_t(rim.b)]) > ball2) continue;
-        if (rim.across == goal) return true;
+        if (seen_[size_t(rim.across)] == stamp_ || !passes(r)) continue;
+        via_[size_t(rim.across)] = r;
+        if (rim.across == goal) {
+          // The path back to the start, by the rim each piece was entered through.
+          path.clear();
+          for (int32_t at = goal; at != start; at = piece_of_rim(via_[size_t(at)])) path.push_back(via_[size_t(at)]);
+          return true;
+        }
         push(rim.across);
       }
     }
@@ -197,12 +214,19 @@ class Reach {
   }
 
  private:
+  int32_t piece_of_rim(uint32_t r) const {  // the piece whose rims hold rim r
+    const auto it = std::upper_bound(pieces_.rim_begin.begin(), pieces_.rim_begin.end(), r);
+    return int32_t(it - pieces_.rim_begin.begin()) - 1;
+  }
+
   const TriangleSurface& s_;
   const ConvexPieces& pieces_;
   const std::vector<Vec3>& centroid_;
   std::vector<uint32_t> seen_;
+  std::vector<uint32_t> via_;  // per piece settled: the rim it was entered through
   uint32_t stamp_ = 0;
   std::vector<std::pair<double, int32_t>> heap_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> paths_;  // (start, goal) -> rims of the last path found
 };
 
 FeatureSizeReport::Measure summarise(const std::vector<double>& value, const std::vector<double>& area,
