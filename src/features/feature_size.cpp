@@ -58,6 +58,21 @@ double segment_distance2(Vec3 p, Vec3 a, Vec3 b) {
   return norm2(p - (a + s * ab));
 }
 
+// A flat face's plane, by its triangles' area-weighted normal and centroid: one fine facet's
+// normal is off by its vertices' rounding over its size, too far across a whole face.
+struct FacePlane {
+  Vec3 normal_sum{}, centre_sum{};
+  double area = 0;
+  void add(Vec3 a, Vec3 b, Vec3 c) {
+    const Vec3 cr = cross(b - a, c - a);
+    normal_sum = normal_sum + cr, centre_sum = centre_sum + (norm(cr) / 3) * (a + b + c);
+    area += norm(cr);
+  }
+  void add(const FacePlane& o) { normal_sum = normal_sum + o.normal_sum, centre_sum = centre_sum + o.centre_sum, area += o.area; }
+  Vec3 normal() const { return (1 / norm(normal_sum)) * normal_sum; }
+  Vec3 origin() const { return (1 / area) * centre_sum; }
+};
+
 // Convex planar pieces of the surface: edge-connected triangles in one plane, grown from each
 // triangle in turn while they stay in its plane and their outline convex, both within
 // `tolerance`, the round-off of a float input (a facet cut in four has its new corners rounded
@@ -86,9 +101,12 @@ struct ConvexPieces {
     std::vector<int32_t> loop;                     // the outline, counter-clockwise seen from outside
     std::vector<std::pair<int32_t, int>> edge_of;  // edge loop[i] -> loop[i + 1]: (triangle, its edge)
     std::vector<int32_t> members;
+    std::vector<std::vector<int32_t>> loops;  // per piece
+    std::vector<int32_t> sizes;               // per piece: its triangles
+    take_convex_faces(s, adj, normal, tolerance, loops, sizes);
     for (size_t t0 = 0; t0 < n; ++t0) {
       if (of[t0] >= 0) continue;
-      const int32_t id = int32_t(centre.size());
+      const int32_t id = int32_t(loops.size());
       of[t0] = id;
       members.assign(1, int32_t(t0));
       loop.assign(T[t0].begin(), T[t0].end());
@@ -134,10 +152,13 @@ struct ConvexPieces {
           grew = true;
         }
       }
-      Vec3 c{};
-      for (int32_t t : members) c = c + centroid[size_t(t)];
-      centre.push_back((1.0 / double(members.size())) * c);
+      loops.push_back(loop);
+      sizes.push_back(int32_t(members.size()));
     }
+    merge_coplanar(s, adj, tolerance, kMaxTriangles, loops, sizes);
+    centre.assign(loops.size(), Vec3{});
+    for (size_t t = 0; t < n; ++t) centre[size_t(of[t])] = centre[size_t(of[t])] + centroid[t];
+    for (size_t q = 0; q < centre.size(); ++q) centre[q] = (1.0 / double(sizes[q])) * centre[q];
     rim_begin.assign(centre.size() + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {
       std::vector<uint32_t> fill;
@@ -154,6 +175,173 @@ struct ConvexPieces {
           else rims[fill[size_t(of[t])]++] = {T[t][size_t(k)], T[t][size_t((k + 1) % 3)], of[size_t(u)]};
         }
     }
+  }
+
+ private:
+  // Each flat face (edge-connected triangles in one plane) whose outline is one convex loop
+  // becomes a piece whole, before the growth below: a CAD export's flat faces mostly are, and
+  // growing them a facet at a time stops at the first straight side.
+  void take_convex_faces(const TriangleSurface& s, const std::vector<std::array<int32_t, 3>>& adj,
+                         const std::vector<Vec3>& normal, double tolerance, std::vector<std::vector<int32_t>>& loops,
+                         std::vector<int32_t>& sizes) {
+    const auto& T = s.triangles;
+    const auto& V = s.vertices;
+    const size_t n = T.size();
+    std::vector<int32_t> face_of(n, -1), face, next(V.size(), -1), loop;
+    for (size_t t0 = 0; t0 < n; ++t0) {
+      if (face_of[t0] >= 0) continue;
+      // The face, by its plane so far.
+      FacePlane plane;
+      auto add = [&](int32_t t) {
+        plane.add(V[size_t(T[size_t(t)][0])], V[size_t(T[size_t(t)][1])], V[size_t(T[size_t(t)][2])]);
+        face_of[size_t(t)] = int32_t(t0);
+        face.push_back(t);
+      };
+      auto in_plane = [&](int32_t t) {
+        const Vec3 nrm = plane.normal(), origin = plane.origin();
+        for (int32_t v : T[size_t(t)])
+          if (std::abs(dot(V[size_t(v)] - origin, nrm)) > tolerance) return false;
+        return dot(normal[size_t(t)], nrm) >= 0.5;
+      };
+      face.clear();
+      add(int32_t(t0));
+      for (size_t k = 0; k < face.size(); ++k)
+        for (int32_t u : adj[size_t(face[k])])
+          if (u >= 0 && face_of[size_t(u)] < 0 && in_plane(u)) add(u);
+      // Its outline: one loop of the edges to other faces, every vertex on it once, turning left.
+      size_t edges = 0;
+      bool simple = std::all_of(face.begin(), face.end(), [&](int32_t t) { return in_plane(t); });
+      for (int32_t t : face)
+        for (int k = 0; k < 3; ++k) {
+          const int32_t u = adj[size_t(t)][size_t(k)];
+          if (u >= 0 && face_of[size_t(u)] == int32_t(t0)) continue;
+          int32_t& to = next[size_t(T[size_t(t)][size_t(k)])];
+          simple &= to < 0;
+          to = T[size_t(t)][size_t((k + 1) % 3)];
+          ++edges;
+        }
+      loop.clear();
+      for (int32_t v = T[t0][0]; simple && next[size_t(v)] >= 0 && loop.size() <= edges;) {
+        loop.push_back(v);
+        v = next[size_t(v)];
+        if (v == loop[0]) break;
+      }
+      simple &= loop.size() == edges;
+      const Vec3 nrm = plane.normal();
+      for (size_t i = 0; simple && i < loop.size(); ++i) {
+        const Vec3 x = V[size_t(loop[i])], y = V[size_t(loop[(i + 1) % loop.size()])],
+                   z = V[size_t(loop[(i + 2) % loop.size()])];
+        simple = dot(cross(y - x, z - x), nrm) >= -tolerance * norm(z - x);
+      }
+      for (int32_t t : face)
+        for (int32_t v : T[size_t(t)]) next[size_t(v)] = -1;
+      if (!simple) continue;  // left to the growth
+      for (int32_t t : face) of[size_t(t)] = int32_t(loops.size());
+      loops.push_back(loop);
+      sizes.push_back(int32_t(face.size()));
+    }
+  }
+
+  // Growing a facet at a time keeps each outline convex, so it stops at a straight side where
+  // facets meet it at 180 degrees: a flat face cut into a lattice of facets ends as strips
+  // (ADIS16480 x64: 66,254 pieces for 7,436 triangles cut in 64). Two pieces in one plane that
+  // share a side are merged where their union is convex: it is, when the outline turns left
+  // (within the tolerance) at both ends of the shared side. Pieces and outlines are renumbered
+  // after, in the order of their first triangle.
+  void merge_coplanar(const TriangleSurface& s, const std::vector<std::array<int32_t, 3>>& adj, double tolerance,
+                      int max_triangles,
+                      std::vector<std::vector<int32_t>>& loops, std::vector<int32_t>& sizes) {
+    const auto& V = s.vertices;
+    const size_t pieces = loops.size();
+    std::vector<FacePlane> plane(pieces);
+    for (size_t t = 0; t < of.size(); ++t) {
+      const auto& tri = s.triangles[t];
+      plane[size_t(of[t])].add(V[size_t(tri[0])], V[size_t(tri[1])], V[size_t(tri[2])]);
+    }
+    std::vector<std::pair<int32_t, int32_t>> pairs;
+    for (size_t t = 0; t < of.size(); ++t)
+      for (int32_t u : adj[t])
+        if (u >= 0 && of[t] < of[size_t(u)]) pairs.push_back({of[t], of[size_t(u)]});
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    UnionFind merged(pieces);
+    std::vector<int32_t> at_in_b(V.size(), -1);  // a vertex's place in the second outline
+    std::vector<int32_t> joined;
+    auto off_plane = [&](const std::vector<int32_t>& loop, Vec3 n, Vec3 origin) {
+      for (int32_t v : loop)
+        if (std::abs(dot(V[size_t(v)] - origin, n)) > tolerance) return true;
+      return false;
+    };
+    for (bool again = true; again;) {
+      again = false;
+      for (auto [a, b] : pairs) {
+        a = merged.find(a), b = merged.find(b);
+        if (a == b || sizes[size_t(a)] + sizes[size_t(b)] > max_triangles) continue;
+        if (a > b) std::swap(a, b);
+        const std::vector<int32_t>& A = loops[size_t(a)];
+        const std::vector<int32_t>& B = loops[size_t(b)];
+        const Vec3 n = plane[size_t(a)].normal(), nb_normal = plane[size_t(b)].normal();
+        if (dot(n, nb_normal) < 0.5 || off_plane(B, n, plane[size_t(a)].origin()) ||
+            off_plane(A, nb_normal, plane[size_t(b)].origin()))
+          continue;
+        for (size_t j = 0; j < B.size(); ++j) at_in_b[size_t(B[j])] = int32_t(j);
+        const size_t na = A.size(), nb = B.size();
+        // Edge A[i] -> A[i + 1] is shared when B runs it backwards.
+        auto shared = [&](size_t i) {
+          const int32_t j = at_in_b[size_t(A[(i + 1) % na])];
+          return j >= 0 && B[(size_t(j) + 1) % nb] == A[i];
+        };
+        size_t first = na;
+        for (size_t i = 0; i < na && first == na; ++i)
+          if (shared(i)) first = i;
+        bool ok = first < na;
+        size_t len = 0;
+        if (ok) {  // the shared side: edges first .. first + len - 1 of A, widened both ways
+          while (len < na && shared((first + na - 1) % na)) first = (first + na - 1) % na, ++len;
+          len = 0;
+          while (len < na && shared((first + len) % na)) ++len;
+          ok = len < na && len < nb;
+        }
+        if (ok) {
+          const int32_t start = A[first], end = A[(first + len) % na];
+          const size_t jb_start = size_t(at_in_b[size_t(start)]), jb_end = size_t(at_in_b[size_t(end)]);
+          auto convex = [&](int32_t x, int32_t y, int32_t z) {
+            const Vec3 e = V[size_t(z)] - V[size_t(x)];
+            return dot(cross(V[size_t(y)] - V[size_t(x)], e), n) >= -tolerance * norm(e);
+          };
+          ok = convex(A[(first + na - 1) % na], start, B[(jb_start + 1) % nb]) &&
+               convex(B[(jb_end + nb - 1) % nb], end, A[(first + len + 1) % na]);
+          if (ok) {  // A from the side's end round to its start, then B from there back to the end
+            joined.clear();
+            for (size_t i = first + len; i <= first + na; ++i) joined.push_back(A[i % na]);
+            for (size_t j = jb_start + 1; j % nb != jb_end; ++j) joined.push_back(B[j % nb]);
+          }
+        }
+        for (int32_t v : B) at_in_b[size_t(v)] = -1;
+        if (!ok) continue;
+        merged.unite(a, b);
+        loops[size_t(a)] = joined;
+        std::vector<int32_t>().swap(loops[size_t(b)]);
+        sizes[size_t(a)] += sizes[size_t(b)];
+        plane[size_t(a)].add(plane[size_t(b)]);
+        again = true;
+      }
+    }
+    // Renumbered by first triangle.
+    std::vector<int32_t> id(pieces, -1);
+    std::vector<std::vector<int32_t>> kept_loops;
+    std::vector<int32_t> kept_sizes;
+    for (int32_t& p : of) {
+      const int32_t root = merged.find(p);
+      if (id[size_t(root)] < 0) {
+        id[size_t(root)] = int32_t(kept_loops.size());
+        kept_loops.push_back(std::move(loops[size_t(root)]));
+        kept_sizes.push_back(sizes[size_t(root)]);
+      }
+      p = id[size_t(root)];
+    }
+    loops.swap(kept_loops);
+    sizes.swap(kept_sizes);
   }
 };
 
