@@ -6,6 +6,10 @@ writing, and writing), and the time per cell of one rank against one rank's.
 
     bench/bench_partition.py build-mpi/froth [--cells-per-rank 1e5] [--ranks 1,2,3]
 
+With --part, strong scaling instead: the same mesh of that part on K ranks (options after --,
+e.g. `--part tests/data/models/ADIS16480.STL -- --cells 1e5 --grade`), with the sampling
+stage's seconds beside (a graded part samples its slab on each rank).
+
 Run as root: export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1. More ranks than
 cores are oversubscribed (and then slower by the ratio, whatever froth does)."""
 import argparse
@@ -13,6 +17,7 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 
 ap = argparse.ArgumentParser()
@@ -21,7 +26,30 @@ ap.add_argument("--cells-per-rank", type=float, default=1e5)
 ap.add_argument("--ranks", default="1,2,3")
 ap.add_argument("--mpirun", default=shutil.which("mpirun") or "mpirun")
 ap.add_argument("--seed", default="1")
-a = ap.parse_args()
+ap.add_argument("--part", help="strong scaling: mesh this part, the options after --")
+argv = sys.argv[1:]
+a = ap.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
+a.options = argv[argv.index("--") + 1:] if "--" in argv else []
+
+if a.part:
+    tmp = tempfile.mkdtemp()
+    print(f"froth mesh {os.path.basename(a.part)} {' '.join(a.options)} --partition, 1 thread per rank, "
+          f"{os.cpu_count()} cores")
+    print(f"{'ranks':>5} {'cells':>9} {'choosing r s':>12} {'sampling s':>10} {'pipeline s':>10} {'vs 1 rank':>9}")
+    base = None
+    for k in [int(x) for x in a.ranks.split(",")]:
+        out, report = os.path.join(tmp, f"np{k}.pvtu"), os.path.join(tmp, f"np{k}.json")
+        subprocess.run([a.mpirun, "--oversubscribe", "-np", str(k), a.froth, "mesh", a.part, *a.options, "--seed",
+                        a.seed, "--threads", "1", "--partition", "-o", out, "--report", report],
+                       check=True, capture_output=True)
+        j = json.load(open(report))
+        cells = sum(x["seeds"] for x in j["partition"]["per_rank"])
+        total = j["seconds_total"]
+        base = base or total
+        print(f"{k:>5} {cells:>9} {j['seconds'].get('choosing r', 0):>12.2f} {j['seconds']['sampling']:>10.2f} "
+              f"{total:>10.2f} {total / base:>9.2f}")
+    shutil.rmtree(tmp)
+    raise SystemExit(0)
 
 # Seeds per unit volume of a maximal r-sample: 0.796 / r^3 (measured on boxes, walls included).
 r = (0.796 / a.cells_per_rank) ** (1 / 3)
