@@ -43,21 +43,32 @@ class TriangleGrid {
     if (!clip_to_box(origin_ - widen, end + widen, a, b, t0, t1)) return;
     const Vec3 from = a + t0 * (b - a), to = a + t1 * (b - a);
     const int steps = std::max(1, int(std::ceil(2 * norm(to - from) / side_)));
+    const Ray ray(a, b, margin);
     int first[3], last[3];
+    size_t earlier = 0;  // from buckets[earlier]: the buckets the step before met
     for (int s = 0; s < steps; ++s) {
       const Vec3 p = from + (double(s) / steps) * (to - from), q = from + (double(s + 1) / steps) * (to - from);
       Vec3 lo, hi;
       for (int k = 0; k < 3; ++k) lo[k] = std::min(p[k], q[k]) - margin, hi[k] = std::max(p[k], q[k]) + margin;
-      if (!locate(lo, hi, first, last)) continue;
+      const size_t step_begin = buckets.size();
+      if (!locate(lo, hi, first, last)) {
+        earlier = step_begin;
+        continue;
+      }
       for (int k = first[2]; k <= last[2]; ++k)
         for (int j = first[1]; j <= last[1]; ++j)
           for (int i = first[0]; i <= last[0]; ++i) {
+            // A bucket two steps meet, every step between meets too (the segment's coordinates
+            // are monotone): the step before has it listed if it was read.
             const size_t bucket = (size_t(k) * n_[1] + j) * n_[0] + i;
-            if (std::find(buckets.begin(), buckets.end(), bucket) != buckets.end()) continue;
+            const auto before_end = buckets.begin() + std::ptrdiff_t(step_begin);
+            const bool read = std::find(buckets.begin() + std::ptrdiff_t(earlier), before_end, bucket) != before_end;
             buckets.push_back(bucket);
+            if (read) continue;
             for (uint32_t e = begin_[bucket]; e < begin_[bucket + 1]; ++e)
-              if (segment_meets(boxes_[e], a, b, margin)) f(ids_[e]);
+              if (ray.meets(boxes_[e])) f(ids_[e]);
           }
+      earlier = step_begin;
     }
   }
 
@@ -82,12 +93,32 @@ class TriangleGrid {
     }
     return true;
   }
-  // The slab test against an entry's box widened by margin.
-  static bool segment_meets(const FloatBox& box, Vec3 a, Vec3 b, double margin) {
-    double t0, t1;
-    return clip_to_box(Vec3{box.lo[0], box.lo[1], box.lo[2]} - Vec3{margin, margin, margin},
-                       Vec3{box.hi[0], box.hi[1], box.hi[2]} + Vec3{margin, margin, margin}, a, b, t0, t1);
-  }
+  // The slab test of a segment against entries' boxes widened by margin, by products with the
+  // direction's inverse, not divisions (the test of every entry along a ray was most of the
+  // feature-size stage). Their rounding is far below the margin, which the callers keep for it.
+  struct Ray {
+    Vec3 a, inverse;
+    bool along[3];  // the segment keeps this coordinate
+    double margin;
+    Ray(Vec3 from, Vec3 to, double m) : a(from), margin(m) {
+      for (int k = 0; k < 3; ++k) along[k] = to[k] == from[k], inverse[k] = along[k] ? 0 : 1 / (to[k] - from[k]);
+    }
+    bool meets(const FloatBox& box) const {
+      double t0 = 0, t1 = 1;
+      for (int k = 0; k < 3; ++k) {
+        const double lo = double(box.lo[k]) - margin, hi = double(box.hi[k]) + margin;
+        if (along[k]) {
+          if (a[k] < lo || a[k] > hi) return false;
+          continue;
+        }
+        double u = (lo - a[k]) * inverse[k], v = (hi - a[k]) * inverse[k];
+        if (u > v) std::swap(u, v);
+        t0 = std::max(t0, u), t1 = std::min(t1, v);
+        if (t0 > t1) return false;
+      }
+      return true;
+    }
+  };
   void fill(const TriangleSurface& surface, double side, bool for_segments);
   bool locate(Vec3 lo, Vec3 hi, int first[3], int last[3]) const;
   const SurfaceLocator* locator_ = nullptr;

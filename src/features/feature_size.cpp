@@ -73,8 +73,10 @@ struct FacePlane {
   Vec3 origin() const { return (1 / area) * centre_sum; }
 };
 
-// Convex planar pieces of the surface: edge-connected triangles in one plane, grown from each
-// triangle in turn while they stay in its plane and their outline convex, both within
+// Convex planar pieces of the surface: flat faces whose outline is convex, whole
+// (take_convex_faces); then edge-connected triangles in one plane, grown from each remaining
+// triangle in turn while they stay in its plane and their outline convex, and merged after
+// (merge_coplanar); planes and turns within
 // `tolerance`, the round-off of a float input (a facet cut in four has its new corners rounded
 // off its plane and off its edges' lines). A convex piece's part in a
 // ball is convex, as a triangle's is, so the search below steps piece by piece: two pieces
