@@ -12,6 +12,7 @@
 #include "froth/error.hpp"
 #include "froth/quality.hpp"
 #include "froth/weld.hpp"
+#include "common/wire_bytes.hpp"
 
 namespace froth {
 
@@ -39,19 +40,6 @@ struct WireSeed {
   int32_t kind;
   Vec3 p, inward;
 };
-
-template <class T>
-Communicator::Bytes to_bytes(const T* data, size_t n) {
-  Communicator::Bytes out(n * sizeof(T));
-  if (n) std::memcpy(out.data(), data, out.size());
-  return out;
-}
-
-std::vector<WireSeed> from_bytes(const Communicator::Bytes& b) {
-  std::vector<WireSeed> out(b.size() / sizeof(WireSeed));
-  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), b.data(), out.size() * sizeof(WireSeed));
-  return out;
-}
 
 }  // namespace
 
@@ -84,7 +72,7 @@ CellWindow exchange_cell_halo(const Sample& sampled, const Slab& slab, Communica
   Communicator::Bytes below_bytes, above_bytes;
   comm.exchange_with_neighbours(to_bytes(own.data(), size_t(lower_end - own.begin())),
                                 to_bytes(own.data() + (upper_begin - own.begin()), size_t(own.end() - upper_begin)), below_bytes, above_bytes);
-  const std::vector<WireSeed> below = from_bytes(below_bytes), above = from_bytes(above_bytes);
+  const std::vector<WireSeed> below = from_bytes<WireSeed>(below_bytes), above = from_bytes<WireSeed>(above_bytes);
 
   std::vector<WireSeed> all;
   all.reserve(below.size() + own.size() + above.size());

@@ -1,8 +1,7 @@
 // A graded round decided across ranks (sampling/graded_rounds.hpp).
 #include "sampling/graded_rounds.hpp"
 
-#include <cstring>
-
+#include "common/wire_bytes.hpp"
 #include "froth/error.hpp"
 
 namespace froth {
@@ -10,18 +9,6 @@ namespace {
 
 enum : uint8_t { Undecided, Accepted, Rejected };
 enum : uint8_t { Own, FromLower, FromUpper };
-
-Communicator::Bytes darts_to_bytes(const std::vector<GradedDart>& darts) {
-  Communicator::Bytes out(darts.size() * sizeof(GradedDart));
-  if (!darts.empty()) std::memcpy(out.data(), darts.data(), out.size());
-  return out;
-}
-
-std::vector<GradedDart> darts_from_bytes(const Communicator::Bytes& bytes) {
-  std::vector<GradedDart> out(bytes.size() / sizeof(GradedDart));
-  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), bytes.data(), out.size() * sizeof(GradedDart));
-  return out;
-}
 
 }  // namespace
 
@@ -42,7 +29,7 @@ AcceptedDarts accept_across_ranks(const std::vector<GradedDart>& own, const Seed
     if (k >= slab.owned_end - kSamplingHaloLayers) to_upper.push_back(d);
   }
   Communicator::Bytes below, above;
-  partition.comm->exchange_with_neighbours(darts_to_bytes(to_lower), darts_to_bytes(to_upper), below, above);
+  partition.comm->exchange_with_neighbours(to_bytes(to_lower.data(), to_lower.size()), to_bytes(to_upper.data(), to_upper.size()), below, above);
   ++exchanges;
 
   // All darts in arrival order, each with its source; each side's keep their order, so both
@@ -50,7 +37,7 @@ AcceptedDarts accept_across_ranks(const std::vector<GradedDart>& own, const Seed
   std::vector<GradedDart> all = own;
   std::vector<uint8_t> source(own.size(), Own);
   for (const auto& [bytes, from] : {std::pair{&below, FromLower}, std::pair{&above, FromUpper}}) {
-    const std::vector<GradedDart> theirs = darts_from_bytes(*bytes);
+    const std::vector<GradedDart> theirs = from_bytes<GradedDart>(*bytes);
     all.insert(all.end(), theirs.begin(), theirs.end());
     source.resize(all.size(), from);
   }
