@@ -11,9 +11,9 @@
 #include "common/background_grid.hpp"
 #include "froth/error.hpp"
 #include "froth/mesh.hpp"
+#include "froth/partition.hpp"
 #include "froth/weld.hpp"
 #include "input/cracked_domain.hpp"
-#include "froth/partition.hpp"
 #include "sampling/mps.hpp"
 #include "sampling/sizing.hpp"
 
