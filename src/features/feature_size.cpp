@@ -71,7 +71,21 @@ struct FacePlane {
   void add(const FacePlane& o) { normal_sum = normal_sum + o.normal_sum, centre_sum = centre_sum + o.centre_sum, area += o.area; }
   Vec3 normal() const { return (1 / norm(normal_sum)) * normal_sum; }
   Vec3 origin() const { return (1 / area) * centre_sum; }
+  // Do the vertices `ids` of V all lie within `tolerance` of the plane?
+  template <class Ids>
+  bool holds(const std::vector<Vec3>& V, const Ids& ids, double tolerance) const {
+    const Vec3 n = normal(), o = origin();
+    for (int32_t v : ids)
+      if (std::abs(dot(V[size_t(v)] - o, n)) > tolerance) return false;
+    return true;
+  }
 };
+
+// Does y turn left, or go straight within `tolerance`, from x towards z, seen along `normal`?
+bool turns_left(Vec3 x, Vec3 y, Vec3 z, Vec3 normal, double tolerance) {
+  const Vec3 e = z - x;
+  return dot(cross(y - x, e), normal) >= -tolerance * norm(e);
+}
 
 // Convex planar pieces of the surface: flat faces whose outline is convex, whole
 // (take_convex_faces); then edge-connected triangles in one plane, grown from each remaining
@@ -114,10 +128,8 @@ struct ConvexPieces {
       loop.assign(T[t0].begin(), T[t0].end());
       edge_of = {{int32_t(t0), 0}, {int32_t(t0), 1}, {int32_t(t0), 2}};
       const Vec3 nrm = normal[t0];
-      // y turns left (or goes straight, within the tolerance) from x towards z.
       auto convex = [&](int32_t x, int32_t y, int32_t z) {
-        const Vec3 e = V[size_t(z)] - V[size_t(x)];
-        return dot(cross(V[size_t(y)] - V[size_t(x)], e), nrm) >= -tolerance * norm(e);
+        return turns_left(V[size_t(x)], V[size_t(y)], V[size_t(z)], nrm, tolerance);
       };
       for (bool grew = true; grew && members.size() < kMaxTriangles;) {
         grew = false;
@@ -200,10 +212,7 @@ struct ConvexPieces {
         face.push_back(t);
       };
       auto in_plane = [&](int32_t t) {
-        const Vec3 nrm = plane.normal(), origin = plane.origin();
-        for (int32_t v : T[size_t(t)])
-          if (std::abs(dot(V[size_t(v)] - origin, nrm)) > tolerance) return false;
-        return dot(normal[size_t(t)], nrm) >= 0.5;
+        return plane.holds(V, T[size_t(t)], tolerance) && dot(normal[size_t(t)], plane.normal()) >= 0.5;
       };
       face.clear();
       add(int32_t(t0));
@@ -230,11 +239,9 @@ struct ConvexPieces {
       }
       simple &= loop.size() == edges;
       const Vec3 nrm = plane.normal();
-      for (size_t i = 0; simple && i < loop.size(); ++i) {
-        const Vec3 x = V[size_t(loop[i])], y = V[size_t(loop[(i + 1) % loop.size()])],
-                   z = V[size_t(loop[(i + 2) % loop.size()])];
-        simple = dot(cross(y - x, z - x), nrm) >= -tolerance * norm(z - x);
-      }
+      for (size_t i = 0; simple && i < loop.size(); ++i)
+        simple = turns_left(V[size_t(loop[i])], V[size_t(loop[(i + 1) % loop.size()])],
+                            V[size_t(loop[(i + 2) % loop.size()])], nrm, tolerance);
       for (int32_t t : face)
         for (int32_t v : T[size_t(t)]) next[size_t(v)] = -1;
       if (!simple) continue;  // left to the growth
@@ -269,11 +276,6 @@ struct ConvexPieces {
     UnionFind merged(pieces);
     std::vector<int32_t> at_in_b(V.size(), -1);  // a vertex's place in the second outline
     std::vector<int32_t> joined;
-    auto off_plane = [&](const std::vector<int32_t>& loop, Vec3 n, Vec3 origin) {
-      for (int32_t v : loop)
-        if (std::abs(dot(V[size_t(v)] - origin, n)) > tolerance) return true;
-      return false;
-    };
     for (bool again = true; again;) {
       again = false;
       for (auto [a, b] : pairs) {
@@ -283,8 +285,8 @@ struct ConvexPieces {
         const std::vector<int32_t>& A = loops[size_t(a)];
         const std::vector<int32_t>& B = loops[size_t(b)];
         const Vec3 n = plane[size_t(a)].normal(), nb_normal = plane[size_t(b)].normal();
-        if (dot(n, nb_normal) < 0.5 || off_plane(B, n, plane[size_t(a)].origin()) ||
-            off_plane(A, nb_normal, plane[size_t(b)].origin()))
+        if (dot(n, nb_normal) < 0.5 || !plane[size_t(a)].holds(V, B, tolerance) ||
+            !plane[size_t(b)].holds(V, A, tolerance))
           continue;
         for (size_t j = 0; j < B.size(); ++j) at_in_b[size_t(B[j])] = int32_t(j);
         const size_t na = A.size(), nb = B.size();
@@ -308,8 +310,7 @@ struct ConvexPieces {
           const int32_t start = A[first], end = A[(first + len) % na];
           const size_t jb_start = size_t(at_in_b[size_t(start)]), jb_end = size_t(at_in_b[size_t(end)]);
           auto convex = [&](int32_t x, int32_t y, int32_t z) {
-            const Vec3 e = V[size_t(z)] - V[size_t(x)];
-            return dot(cross(V[size_t(y)] - V[size_t(x)], e), n) >= -tolerance * norm(e);
+            return turns_left(V[size_t(x)], V[size_t(y)], V[size_t(z)], n, tolerance);
           };
           ok = convex(A[(first + na - 1) % na], start, B[(jb_start + 1) % nb]) &&
                convex(B[(jb_end + nb - 1) % nb], end, A[(first + len + 1) % na]);

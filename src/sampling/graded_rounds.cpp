@@ -16,20 +16,24 @@ AcceptedDarts accept_across_ranks(const std::vector<GradedDart>& own, const Seed
                                   double reach_factor, const SamplingPartition& partition, size_t& exchanges) {
   const BackgroundGrid& g = grid.grid();
   const Slab& slab = partition.slab;
-  auto layer_of = [&](Vec3 p) {
+  auto cube_of = [&](Vec3 p) {
     int i, j, k;
     g.locate(p, i, j, k);
-    return k;
+    return g.index(i, j, k);
   };
+  const int64_t layer = int64_t(g.nx) * g.ny;
   // The darts in the layers a neighbour's window holds go to that neighbour (in arrival order).
+  auto for_lower = [&](int64_t cube) { return cube / layer < slab.owned_begin + kSamplingHaloLayers; };
+  auto for_upper = [&](int64_t cube) { return cube / layer >= slab.owned_end - kSamplingHaloLayers; };
   std::vector<GradedDart> to_lower, to_upper;
   for (const GradedDart& d : own) {
-    const int k = layer_of(d.p);
-    if (k < slab.owned_begin + kSamplingHaloLayers) to_lower.push_back(d);
-    if (k >= slab.owned_end - kSamplingHaloLayers) to_upper.push_back(d);
+    const int64_t cube = cube_of(d.p);
+    if (for_lower(cube)) to_lower.push_back(d);
+    if (for_upper(cube)) to_upper.push_back(d);
   }
   Communicator::Bytes below, above;
-  partition.comm->exchange_with_neighbours(to_bytes(to_lower.data(), to_lower.size()), to_bytes(to_upper.data(), to_upper.size()), below, above);
+  partition.comm->exchange_with_neighbours(to_bytes(to_lower.data(), to_lower.size()),
+                                           to_bytes(to_upper.data(), to_upper.size()), below, above);
   ++exchanges;
 
   // All darts in arrival order, each with its source; each side's keep their order, so both
@@ -49,22 +53,18 @@ AcceptedDarts accept_across_ranks(const std::vector<GradedDart>& own, const Seed
   std::vector<uint8_t> from(n);
   std::vector<double> radius(n);
   std::vector<uint32_t> send_lower, send_upper, from_lower, from_upper;
-  for (size_t c = 0; c < n; ++c) {
-    dart[c] = all[order[c]], from[c] = source[order[c]], radius[c] = h.at(dart[c].p);
-    const int k = layer_of(dart[c].p);
-    if (from[c] == FromLower) from_lower.push_back(uint32_t(c));
-    else if (from[c] == FromUpper) from_upper.push_back(uint32_t(c));
-    else {
-      if (k < slab.owned_begin + kSamplingHaloLayers) send_lower.push_back(uint32_t(c));
-      if (k >= slab.owned_end - kSamplingHaloLayers) send_upper.push_back(uint32_t(c));
-    }
-  }
   // The darts by base cube (then arrival), so the darts near a point are read row by row.
   std::vector<std::pair<int64_t, uint32_t>> by_cube(n);
   for (size_t c = 0; c < n; ++c) {
-    int i, j, k;
-    g.locate(dart[c].p, i, j, k);
-    by_cube[c] = {g.index(i, j, k), uint32_t(c)};
+    dart[c] = all[order[c]], from[c] = source[order[c]], radius[c] = h.at(dart[c].p);
+    const int64_t cube = cube_of(dart[c].p);
+    by_cube[c] = {cube, uint32_t(c)};
+    if (from[c] == FromLower) from_lower.push_back(uint32_t(c));
+    else if (from[c] == FromUpper) from_upper.push_back(uint32_t(c));
+    else {
+      if (for_lower(cube)) send_lower.push_back(uint32_t(c));
+      if (for_upper(cube)) send_upper.push_back(uint32_t(c));
+    }
   }
   std::sort(by_cube.begin(), by_cube.end());
 
